@@ -1,0 +1,1 @@
+//! Experiment specs, trial runner, results store, statistics and plots (work in progress).

@@ -1,0 +1,1 @@
+//! The Lafortune BRDF model, parameter layouts, data sets and RMSE (work in progress).

@@ -1,0 +1,102 @@
+//! What a trial is given (budget, target) and what it returns (result, anytime trace).
+//!
+//! These types are the contract between the search algorithms and the harness: the harness
+//! serialises [`TrialResult`] as one JSON line per trial and derives every statistic from it.
+
+use serde::{Deserialize, Serialize};
+
+/// Resources a trial may spend before it is stopped (censored). `None` means unlimited; at
+/// least one limit should be set for targets that may be unreachable.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Budget {
+    /// Cutoff in CPU seconds of the thread running the trial.
+    pub cpu_seconds: Option<f64>,
+    /// Cutoff in sample-evaluations ([`EvalCounts::total`]).
+    pub sample_evaluations: Option<u64>,
+}
+
+/// Evaluation counts in sample-evaluations: one model value at one sample is one unit, so run
+/// lengths compare across algorithms, subsample sizes and machines.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EvalCounts {
+    /// Residual rows computed for descents (and simplex/annealing steps on subsamples).
+    pub residual_rows: u64,
+    /// Jacobian rows computed (analytic or finite-difference), counted apart from residuals.
+    pub jacobian_rows: u64,
+    /// Rows computed for full-data RMSE evaluations of candidates.
+    pub rmse_rows: u64,
+}
+
+impl EvalCounts {
+    /// All sample-evaluations: residual + Jacobian + full-data RMSE rows.
+    pub fn total(&self) -> u64 {
+        self.residual_rows + self.jacobian_rows + self.rmse_rows
+    }
+}
+
+/// A point in a trial's life, measured three ways.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Stamp {
+    /// CPU seconds of the worker thread since the trial started.
+    pub cpu_seconds: f64,
+    /// Wall-clock seconds since the trial started.
+    pub wall_seconds: f64,
+    /// Sample-evaluations spent so far.
+    pub evaluations: EvalCounts,
+}
+
+/// One improvement of the best full-data RMSE.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TracePoint {
+    /// When the improvement happened.
+    pub at: Stamp,
+    /// The new best full-data RMSE.
+    pub rmse: f64,
+}
+
+/// Why a trial ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The full-data RMSE reached the target.
+    Target,
+    /// The CPU-time cutoff was spent (censored run).
+    CpuBudget,
+    /// The sample-evaluation budget was spent (censored run).
+    EvaluationBudget,
+    /// The algorithm ended by itself without reaching the target (e.g. DS with restarts off).
+    Finished,
+}
+
+/// Everything a trial reports.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrialResult {
+    /// Why the trial stopped.
+    pub stop: StopReason,
+    /// When the target was reached, if it was.
+    pub reached_at: Option<Stamp>,
+    /// When the trial stopped (equals `reached_at` on success).
+    pub ended_at: Stamp,
+    /// Best full-data RMSE seen.
+    pub best_rmse: f64,
+    /// The best candidate in the optimiser's coordinates (free parameters only).
+    pub best_x: Vec<f64>,
+    /// Anytime trace: one entry per improvement of the best full-data RMSE, in time order.
+    pub trace: Vec<TracePoint>,
+    /// Algorithm-specific counters (restarts, descents by outcome, ...), for diagnostics.
+    pub counters: Vec<(String, u64)>,
+}
+
+impl TrialResult {
+    /// Whether the target was reached.
+    pub fn reached(&self) -> bool {
+        self.reached_at.is_some()
+    }
+
+    /// The first stamp at which the best RMSE was at or below `target`, from the trace. Lets
+    /// the harness derive time-to-target for any target at least as loose as the trial's own.
+    pub fn first_reaching(&self, target: f64) -> Option<Stamp> {
+        self.trace.iter().find(|p| p.rmse <= target).map(|p| p.at)
+    }
+}
