@@ -1,0 +1,902 @@
+//! Plots (plotters; PNG and SVG with the DejaVu Sans font embedded in the binary).
+//!
+//! Every plot is described by a [`Chart`] (series of points, optional bands, axes) and drawn by
+//! [`draw`]; the builders below turn statistics into charts:
+//! - [`rtd_chart`]: RTD (Kaplan-Meier = ECDF with a shared cutoff) per configuration, log time;
+//! - [`sweep_chart`]: ERT with its bootstrap 10-90% band and the median against a swept value;
+//! - [`trace_chart`]: best RMSE against CPU time for chosen trials;
+//! - [`scatter_chart`]: run time against final RMSE;
+//! - [`error_time_chart`]: median time-to-target and ERT as the target RMSE varies;
+//! - [`ecdf_targets_chart`]: COCO-style ECDF over (run, target) pairs.
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
+
+use crate::spec::PlotFormat;
+use crate::stats::{Group, Measure, Outcome, ert, group_outcomes, kaplan_meier, quantile};
+
+/// Plot errors.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// Drawing failed.
+    #[error("{path}: drawing failed: {message}")]
+    Draw {
+        /// Output file.
+        path: PathBuf,
+        /// plotters' message.
+        message: String,
+    },
+    /// Writing failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// Output file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// Registers DejaVu Sans as plotters' "sans-serif" (no system fonts needed). Idempotent.
+pub fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bytes are a valid TTF shipped by the dejavu crate; a failure would leave text
+        // undrawable and every plot reports it.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// The tab10 palette (distinguishable, colour-blind friendlier than pure RGB).
+pub const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Palette colour `i` (cycling).
+pub fn color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Style {
+    /// A solid polyline.
+    Line,
+    /// A dashed polyline.
+    Dashed,
+    /// Markers only (filled circles).
+    Points,
+    /// Markers only (hollow circles).
+    HollowPoints,
+}
+
+/// One series of a chart.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend text (`None`: no legend entry).
+    pub label: Option<String>,
+    /// Points in data coordinates.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+    /// Colour.
+    pub color: RGBColor,
+    /// Optional band `(x, lo, hi)` drawn shaded behind the series.
+    pub band: Vec<(f64, f64, f64)>,
+}
+
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LegendAt {
+    /// Upper left.
+    UpperLeft,
+    /// Upper right.
+    UpperRight,
+    /// Lower right.
+    LowerRight,
+    /// Lower left.
+    LowerLeft,
+}
+
+/// A chart ready to draw.
+#[derive(Clone, Debug)]
+pub struct Chart {
+    /// Title.
+    pub title: String,
+    /// X axis label.
+    pub x_label: String,
+    /// Y axis label.
+    pub y_label: String,
+    /// Logarithmic x axis.
+    pub x_log: bool,
+    /// Logarithmic y axis.
+    pub y_log: bool,
+    /// Series in drawing order.
+    pub series: Vec<Series>,
+    /// Vertical reference lines `(x, label)` (dashed grey).
+    pub vlines: Vec<(f64, String)>,
+    /// Horizontal reference lines `(y, label)` (dashed grey).
+    pub hlines: Vec<(f64, String)>,
+    /// Fixed x range (default: from the data).
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range (default: from the data).
+    pub y_range: Option<(f64, f64)>,
+    /// Legend position.
+    pub legend: LegendAt,
+}
+
+impl Chart {
+    /// An empty chart with titles.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Chart {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_log: false,
+            y_log: false,
+            series: Vec::new(),
+            vlines: Vec::new(),
+            hlines: Vec::new(),
+            x_range: None,
+            y_range: None,
+            legend: LegendAt::UpperLeft,
+        }
+    }
+
+    fn data_range(&self, axis: usize, log: bool) -> (f64, f64) {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        let mut take = |v: f64| {
+            if v.is_finite() && (!log || v > 0.0) {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        };
+        for s in &self.series {
+            for p in &s.points {
+                take(if axis == 0 { p.0 } else { p.1 });
+            }
+            for b in &s.band {
+                if axis == 0 {
+                    take(b.0);
+                } else {
+                    take(b.1);
+                    take(b.2);
+                }
+            }
+        }
+        if axis == 0 {
+            self.vlines.iter().for_each(|l| take(l.0));
+        } else {
+            self.hlines.iter().for_each(|l| take(l.0));
+        }
+        if !lo.is_finite() {
+            return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+        }
+        if log {
+            if hi <= lo * 1.0001 {
+                (lo / 2.0, hi * 2.0)
+            } else {
+                let r = (hi / lo).powf(0.05);
+                (lo / r, hi * r)
+            }
+        } else if hi <= lo {
+            (lo - 0.5 - lo.abs() * 0.1, hi + 0.5 + hi.abs() * 0.1)
+        } else {
+            let pad = (hi - lo) * 0.05;
+            (lo - pad, hi + pad)
+        }
+    }
+}
+
+/// Compact tick labels: 0.001, 0.5, 12, 3.4k, 1.2M, 1e9.
+pub fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if a >= 1e9 || a < 1e-3 {
+        let e = a.log10().floor();
+        let m = v / 10f64.powf(e);
+        if (m.round() - m).abs() < 1e-9 {
+            format!("{}e{}", m.round(), e)
+        } else {
+            format!("{m:.1}e{e}")
+        }
+    } else if a >= 1e6 {
+        trim(format!("{:.1}", v / 1e6)) + "M"
+    } else if a >= 1e4 {
+        trim(format!("{:.1}", v / 1e3)) + "k"
+    } else if a >= 10.0 {
+        trim(format!("{v:.1}"))
+    } else {
+        trim(format!("{v:.3}"))
+    }
+}
+
+fn trim(s: String) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// `base` with `.ext` appended (not `with_extension`: a base like `rtd-q0.11` has a dot).
+fn with_ext(base: &Path, ext: &str) -> PathBuf {
+    let mut s = base.as_os_str().to_os_string();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+/// Image size in pixels.
+pub const SIZE: (u32, u32) = (960, 640);
+
+/// Draws `chart` to `<base>.png` and/or `<base>.svg` (atomically), returning the files written.
+pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<PathBuf>, PlotError> {
+    register_fonts();
+    let mut written = Vec::new();
+    if let Some(dir) = base.parent() {
+        std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    for f in formats {
+        match f {
+            PlotFormat::Png => {
+                let path = with_ext(base, "png");
+                let name = path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                // The bitmap encoder picks the format from the extension: keep ".png" last.
+                let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
+                {
+                    let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+                    render_any(&root, chart).map_err(|message| PlotError::Draw {
+                        path: path.clone(),
+                        message,
+                    })?;
+                    root.present().map_err(|e| PlotError::Draw {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
+                }
+                std::fs::rename(&tmp, &path).map_err(|source| PlotError::Io {
+                    path: path.clone(),
+                    source,
+                })?;
+                written.push(path);
+            }
+            PlotFormat::Svg => {
+                let path = with_ext(base, "svg");
+                let mut text = String::new();
+                {
+                    let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+                    render_any(&root, chart).map_err(|message| PlotError::Draw {
+                        path: path.clone(),
+                        message,
+                    })?;
+                    root.present().map_err(|e| PlotError::Draw {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
+                }
+                crate::store::write_atomic(&path, text.as_bytes()).map_err(|source| {
+                    PlotError::Io {
+                        path: path.clone(),
+                        source,
+                    }
+                })?;
+                written.push(path);
+            }
+        }
+    }
+    Ok(written)
+}
+
+fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
+    let (x0, x1) = c.x_range.unwrap_or_else(|| c.data_range(0, c.x_log));
+    let (y0, y1) = c.y_range.unwrap_or_else(|| c.data_range(1, c.y_log));
+    // plotters' log axis only labels powers of ten: below one decade it would show no tick
+    // labels at all, so such axes are drawn linear instead.
+    let x_log = c.x_log && x0 > 0.0 && x1 / x0 >= 10.0;
+    let y_log = c.y_log && y0 > 0.0 && y1 / y0 >= 10.0;
+    if x_log != c.x_log || y_log != c.y_log {
+        let mut lin = c.clone();
+        lin.x_log = x_log;
+        lin.y_log = y_log;
+        lin.x_range = Some((x0, x1));
+        lin.y_range = Some((y0, y1));
+        if !x_log {
+            lin.x_label = lin.x_label.replace(" (log scale)", "");
+        }
+        if !y_log {
+            lin.y_label = lin.y_label.replace(" (log scale)", "");
+        }
+        return render_any(root, &lin);
+    }
+    match (c.x_log, c.y_log) {
+        (false, false) => render(root, c, x0..x1, y0..y1),
+        (true, false) => render(root, c, (x0..x1).log_scale(), y0..y1),
+        (false, true) => render(root, c, x0..x1, (y0..y1).log_scale()),
+        (true, true) => render(root, c, (x0..x1).log_scale(), (y0..y1).log_scale()),
+    }
+}
+
+fn render<DB, XR, YR>(
+    root: &DrawingArea<DB, Shift>,
+    c: &Chart,
+    xr: XR,
+    yr: YR,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    XR: AsRangedCoord<Value = f64>,
+    YR: AsRangedCoord<Value = f64>,
+    XR::CoordDescType: ValueFormatter<f64>,
+    YR::CoordDescType: ValueFormatter<f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(&c.title, ("sans-serif", 22).into_font())
+        .margin(18)
+        .x_label_area_size(52)
+        .y_label_area_size(78)
+        .build_cartesian_2d(xr, yr)
+        .map_err(e)?;
+    let fmt = |v: &f64| tick(*v);
+    chart
+        .configure_mesh()
+        .x_desc(c.x_label.as_str())
+        .y_desc(c.y_label.as_str())
+        .x_label_formatter(&fmt)
+        .y_label_formatter(&fmt)
+        .x_labels(10)
+        .y_labels(10)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()
+        .map_err(e)?;
+    let (xs, ys) = (chart.x_range(), chart.y_range());
+    let clamp = |p: (f64, f64)| (p.0.clamp(xs.start, xs.end), p.1.clamp(ys.start, ys.end));
+    let grey = RGBColor(110, 110, 110);
+    for (x, _) in &c.vlines {
+        if *x >= xs.start && *x <= xs.end {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(*x, ys.start), (*x, ys.end)],
+                    6,
+                    4,
+                    grey.stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+    }
+    for (y, _) in &c.hlines {
+        if *y >= ys.start && *y <= ys.end {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(xs.start, *y), (xs.end, *y)],
+                    6,
+                    4,
+                    grey.stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+    }
+    for s in &c.series {
+        if s.band.len() >= 2 {
+            let mut poly: Vec<(f64, f64)> = s.band.iter().map(|b| clamp((b.0, b.2))).collect();
+            poly.extend(s.band.iter().rev().map(|b| clamp((b.0, b.1))));
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    s.color.mix(0.18).filled(),
+                )))
+                .map_err(e)?;
+        }
+    }
+    for s in &c.series {
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .map(clamp)
+            .collect();
+        let col = s.color;
+        let anno = match s.style {
+            Style::Line => chart
+                .draw_series(LineSeries::new(pts, col.stroke_width(2)))
+                .map_err(e)?,
+            Style::Dashed => chart
+                .draw_series(DashedLineSeries::new(pts, 8, 5, col.stroke_width(2)))
+                .map_err(e)?,
+            Style::Points => chart
+                .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, col.filled())))
+                .map_err(e)?,
+            Style::HollowPoints => chart
+                .draw_series(
+                    pts.into_iter()
+                        .map(|p| Circle::new(p, 4, col.stroke_width(1))),
+                )
+                .map_err(e)?,
+        };
+        if let Some(label) = &s.label {
+            let style = s.style;
+            anno.label(label.as_str()).legend(
+                move |(x, y)| -> DynElement<'static, DB, (i32, i32)> {
+                    match style {
+                        Style::Points => Circle::new((x + 10, y), 4, col.filled()).into_dyn(),
+                        Style::HollowPoints => {
+                            Circle::new((x + 10, y), 4, col.stroke_width(1)).into_dyn()
+                        }
+                        Style::Dashed => {
+                            PathElement::new(vec![(x, y), (x + 8, y)], col.stroke_width(2))
+                                .into_dyn()
+                        }
+                        Style::Line => {
+                            PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
+                                .into_dyn()
+                        }
+                    }
+                },
+            );
+        }
+    }
+    if c.series.iter().any(|s| s.label.is_some()) {
+        let pos = match c.legend {
+            LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+            LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+            LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+            LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+        };
+        chart
+            .configure_series_labels()
+            .position(pos)
+            .margin(12)
+            .label_font(("sans-serif", 15))
+            .background_style(WHITE.mix(0.88))
+            .border_style(RGBColor(160, 160, 160))
+            .draw()
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Step-function points of a CDF from `x_start` to `x_end` (left-continuous drawing).
+pub fn step_points(curve: &[(f64, f64)], x_start: f64, x_end: f64) -> Vec<(f64, f64)> {
+    let mut pts = vec![(x_start, 0.0)];
+    let mut last = 0.0;
+    for &(t, f) in curve {
+        pts.push((t, last));
+        pts.push((t, f));
+        last = f;
+    }
+    pts.push((x_end.max(curve.last().map_or(x_start, |c| c.0)), last));
+    pts
+}
+
+/// RTD chart of the groups of one instance, for `target` in `measure`. `cutoff` draws a
+/// reference line (the CPU or evaluation budget).
+pub fn rtd_chart(
+    instance: &str,
+    groups: &[&Group<'_>],
+    target: f64,
+    measure: Measure,
+    cutoff: Option<f64>,
+) -> Chart {
+    let trials = groups.iter().map(|g| g.records.len()).max().unwrap_or(0);
+    let mut chart = Chart::new(
+        format!("RTD - {instance}, target RMSE {target} ({trials} trials per configuration)"),
+        format!("{} to reach RMSE <= {target} (log scale)", measure.label()),
+        "fraction of trials solved",
+    );
+    chart.x_log = true;
+    let outcomes: Vec<Vec<Outcome>> = groups
+        .iter()
+        .map(|g| group_outcomes(g, target, measure))
+        .collect();
+    let min_t = outcomes
+        .iter()
+        .flatten()
+        .filter_map(|o| o.success)
+        .filter(|t| *t > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let max_t = outcomes
+        .iter()
+        .flatten()
+        .map(|o| o.spent)
+        .chain(cutoff)
+        .fold(0.0, f64::max);
+    let (x0, x1) = if min_t.is_finite() {
+        (min_t / 1.5, max_t.max(min_t * 2.0) * 1.3)
+    } else {
+        (max_t.max(1e-3) / 100.0, max_t.max(1e-3) * 1.3)
+    };
+    chart.x_range = Some((x0, x1));
+    chart.y_range = Some((0.0, 1.02));
+    for (i, (g, o)) in groups.iter().zip(&outcomes).enumerate() {
+        let km = kaplan_meier(o);
+        let solved = o.iter().filter(|x| x.success.is_some()).count();
+        chart.series.push(Series {
+            label: Some(format!("{} ({solved}/{})", g.config, o.len())),
+            points: step_points(&km, x0, max_t.max(x0)),
+            style: Style::Line,
+            color: color(i),
+            band: Vec::new(),
+        });
+    }
+    if let Some(c) = cutoff {
+        chart.vlines.push((c, "cutoff".into()));
+    }
+    chart
+}
+
+/// Sweep chart: ERT (with bootstrap band) and median against the swept value. `rows` holds
+/// per series label: (x, ERT, band lo, band hi, median).
+#[allow(clippy::type_complexity)]
+pub fn sweep_chart(
+    title: &str,
+    parameter: &str,
+    measure: Measure,
+    rows: &[(
+        String,
+        Vec<(f64, Option<f64>, Option<f64>, Option<f64>, Option<f64>)>,
+    )],
+    x_log: bool,
+) -> Chart {
+    let mut chart = Chart::new(title, parameter, format!("{} (log scale)", measure.label()));
+    chart.y_log = true;
+    chart.x_log = x_log;
+    for (i, (label, pts)) in rows.iter().enumerate() {
+        let ert: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.1.map(|e| (p.0, e))).collect();
+        let band: Vec<(f64, f64, f64)> = pts
+            .iter()
+            .filter_map(|p| match (p.2, p.3) {
+                (Some(a), Some(b)) => Some((p.0, a, b)),
+                _ => None,
+            })
+            .collect();
+        let med: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.4.map(|m| (p.0, m))).collect();
+        let prefix = if label.is_empty() {
+            String::new()
+        } else {
+            format!("{label} ")
+        };
+        chart.series.push(Series {
+            label: Some(format!("{prefix}ERT (band: bootstrap 10-90%)")),
+            points: ert.clone(),
+            style: Style::Line,
+            color: color(i),
+            band,
+        });
+        chart.series.push(Series {
+            label: None,
+            points: ert,
+            style: Style::Points,
+            color: color(i),
+            band: Vec::new(),
+        });
+        chart.series.push(Series {
+            label: Some(format!("{prefix}median")),
+            points: med,
+            style: Style::Dashed,
+            color: color(i),
+            band: Vec::new(),
+        });
+    }
+    chart.legend = LegendAt::UpperRight;
+    chart
+}
+
+/// Trace chart: best RMSE against CPU time for the first `per_config` trials of each group.
+pub fn trace_chart(
+    instance: &str,
+    groups: &[&Group<'_>],
+    per_config: usize,
+    targets: &[f64],
+) -> Chart {
+    let mut chart = Chart::new(
+        format!("Anytime traces - {instance} (first {per_config} trials per configuration)"),
+        "CPU seconds (log scale)",
+        "best RMSE on the full data (log scale)",
+    );
+    chart.x_log = true;
+    chart.y_log = true;
+    chart.legend = LegendAt::UpperRight;
+    let mut ymax: f64 = 0.0;
+    let mut ymin = f64::INFINITY;
+    let mut xmin = f64::INFINITY;
+    let mut xmax: f64 = 0.0;
+    for (i, g) in groups.iter().enumerate() {
+        for (k, r) in g.records.iter().take(per_config).enumerate() {
+            let tr = &r.result.trace;
+            let mut pts = Vec::new();
+            for (j, p) in tr.iter().enumerate() {
+                let t = p.at.cpu_seconds.max(1e-4);
+                if j > 0 {
+                    pts.push((t, tr[j - 1].rmse));
+                }
+                pts.push((t, p.rmse));
+                ymax = ymax.max(p.rmse);
+                ymin = ymin.min(p.rmse);
+                xmin = xmin.min(t);
+            }
+            let end = r.result.ended_at.cpu_seconds.max(1e-4);
+            xmax = xmax.max(end);
+            if let Some(last) = tr.last() {
+                pts.push((end, last.rmse));
+            }
+            chart.series.push(Series {
+                label: (k == 0).then(|| g.config.clone()),
+                points: pts,
+                style: Style::Line,
+                color: color(i),
+                band: Vec::new(),
+            });
+        }
+    }
+    for &t in targets {
+        chart.hlines.push((t, format!("target {t}")));
+        ymin = ymin.min(t);
+    }
+    // Random picks can have enormous RMSEs; the interesting part is near the targets.
+    let top = targets.iter().copied().fold(ymin, f64::max) * 10.0;
+    if ymax > 0.0 && ymin.is_finite() {
+        chart.y_range = Some((ymin / 1.05, (ymax * 1.1).min(top)));
+    }
+    if xmin.is_finite() && xmax > 0.0 {
+        chart.x_range = Some((xmin / 1.5, xmax.max(xmin * 2.0) * 1.3));
+    }
+    chart
+}
+
+/// Scatter of run time against final RMSE, one colour per configuration; successes filled,
+/// censored runs hollow.
+pub fn scatter_chart(instance: &str, groups: &[&Group<'_>], target: f64) -> Chart {
+    let mut chart = Chart::new(
+        format!("Run time vs final RMSE - {instance} (filled: reached {target}, hollow: censored)"),
+        "final best RMSE",
+        "CPU seconds at the end of the trial (log scale)",
+    );
+    chart.y_log = true;
+    chart.legend = LegendAt::UpperRight;
+    for (i, g) in groups.iter().enumerate() {
+        let mut ok = Vec::new();
+        let mut cens = Vec::new();
+        for r in &g.records {
+            let p = (r.result.best_rmse, r.result.ended_at.cpu_seconds.max(1e-4));
+            if r.result.reached() {
+                ok.push(p);
+            } else {
+                cens.push(p);
+            }
+        }
+        chart.series.push(Series {
+            label: Some(g.config.clone()),
+            points: ok,
+            style: Style::Points,
+            color: color(i),
+            band: Vec::new(),
+        });
+        chart.series.push(Series {
+            label: None,
+            points: cens,
+            style: Style::HollowPoints,
+            color: color(i),
+            band: Vec::new(),
+        });
+    }
+    chart.vlines.push((target, format!("target {target}")));
+    chart
+}
+
+/// A log-spaced grid of `steps` targets from `lo` to `hi`.
+pub fn target_grid(lo: f64, hi: f64, steps: usize) -> Vec<f64> {
+    let steps = steps.max(2);
+    (0..steps)
+        .map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / (steps - 1) as f64).exp())
+        .collect()
+}
+
+/// Median time-to-target and ERT against the target RMSE, from the stored traces.
+pub fn error_time_chart(
+    instance: &str,
+    groups: &[&Group<'_>],
+    grid: &[f64],
+    measure: Measure,
+) -> Chart {
+    let mut chart = Chart::new(
+        format!("Run time vs target error - {instance} (from anytime traces)"),
+        "target RMSE (log scale)",
+        format!("{} (log scale)", measure.label()),
+    );
+    chart.x_log = true;
+    chart.y_log = true;
+    chart.legend = LegendAt::UpperRight;
+    for (i, g) in groups.iter().enumerate() {
+        let mut e_pts = Vec::new();
+        let mut m_pts = Vec::new();
+        for &t in grid {
+            let o = group_outcomes(g, t, measure);
+            let e = ert(&o);
+            if e.is_finite() && e > 0.0 {
+                e_pts.push((t, e));
+            }
+            if let Some(m) = quantile(&kaplan_meier(&o), 0.5).filter(|m| *m > 0.0) {
+                m_pts.push((t, m));
+            }
+        }
+        chart.series.push(Series {
+            label: Some(format!("{} ERT", g.config)),
+            points: e_pts,
+            style: Style::Line,
+            color: color(i),
+            band: Vec::new(),
+        });
+        chart.series.push(Series {
+            label: Some(format!("{} median", g.config)),
+            points: m_pts,
+            style: Style::Dashed,
+            color: color(i),
+            band: Vec::new(),
+        });
+    }
+    chart
+}
+
+/// COCO-style ECDF: fraction of (run, target) pairs solved against run time.
+pub fn ecdf_targets_chart(
+    instance: &str,
+    groups: &[&Group<'_>],
+    grid: &[f64],
+    measure: Measure,
+) -> Chart {
+    let (lo, hi) = (
+        grid.first().copied().unwrap_or(0.0),
+        grid.last().copied().unwrap_or(0.0),
+    );
+    let mut chart = Chart::new(
+        format!(
+            "ECDF over {} targets in [{}, {}] - {instance}",
+            grid.len(),
+            tick(lo),
+            tick(hi)
+        ),
+        format!("{} (log scale)", measure.label()),
+        "fraction of (trial, target) pairs solved",
+    );
+    chart.x_log = true;
+    chart.legend = LegendAt::LowerRight;
+    let mut all: Vec<Vec<Outcome>> = Vec::new();
+    for g in groups {
+        let mut o = Vec::new();
+        for &t in grid {
+            o.extend(group_outcomes(g, t, measure));
+        }
+        all.push(o);
+    }
+    let min_t = all
+        .iter()
+        .flatten()
+        .filter_map(|o| o.success)
+        .filter(|t| *t > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let max_t = all.iter().flatten().map(|o| o.spent).fold(0.0, f64::max);
+    let (x0, x1) = if min_t.is_finite() {
+        (min_t / 1.5, max_t.max(min_t * 2.0) * 1.3)
+    } else {
+        (max_t.max(1e-3) / 100.0, max_t.max(1e-3) * 1.3)
+    };
+    chart.x_range = Some((x0, x1));
+    chart.y_range = Some((0.0, 1.02));
+    for (i, (g, o)) in groups.iter().zip(&all).enumerate() {
+        chart.series.push(Series {
+            label: Some(g.config.clone()),
+            points: step_points(&kaplan_meier(o), x0, max_t.max(x0)),
+            style: Style::Line,
+            color: color(i),
+            band: Vec::new(),
+        });
+    }
+    chart
+}
+
+/// A file-name-safe version of a label.
+pub fn slug(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars() {
+        if c.is_ascii_alphanumeric() || c == '.' || c == '-' || c == '_' {
+            out.push(c);
+        } else if c == '=' {
+            out.push('-');
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.trim_matches('_').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_and_slugs() {
+        assert_eq!(tick(0.5), "0.5");
+        assert_eq!(tick(12.0), "12");
+        assert_eq!(tick(25000.0), "25k");
+        assert_eq!(tick(2.5e6), "2.5M");
+        assert_eq!(tick(1e10), "1e10");
+        assert_eq!(slug("AED phi=1.2"), "AED_phi-1.2");
+        let g = target_grid(0.1, 1.0, 3);
+        assert!((g[1] - 0.1f64.sqrt()).abs() < 1e-12);
+        let s = step_points(&[(1.0, 0.5), (2.0, 1.0)], 0.5, 3.0);
+        assert_eq!(
+            s,
+            vec![
+                (0.5, 0.0),
+                (1.0, 0.0),
+                (1.0, 0.5),
+                (2.0, 0.5),
+                (2.0, 1.0),
+                (3.0, 1.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn draws_png_and_svg() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut c = Chart::new("Test chart", "x", "y");
+        c.x_log = true;
+        c.series.push(Series {
+            label: Some("a".into()),
+            points: vec![(0.1, 0.0), (1.0, 0.5), (10.0, 1.0)],
+            style: Style::Line,
+            color: color(0),
+            band: vec![(0.1, -0.1, 0.1), (10.0, 0.9, 1.1)],
+        });
+        c.vlines.push((5.0, "cutoff".into()));
+        let files = draw(
+            &c,
+            &dir.path().join("t"),
+            &[PlotFormat::Png, PlotFormat::Svg],
+        )
+        .unwrap();
+        assert_eq!(files.len(), 2);
+        let png = std::fs::read(&files[0]).unwrap();
+        assert!(png.len() > 1000 && png.starts_with(b"\x89PNG"));
+        let svg = std::fs::read_to_string(&files[1]).unwrap();
+        assert!(svg.contains("<svg") && svg.contains("Test chart"));
+        // No temporary files left behind.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+    }
+}

@@ -1,0 +1,291 @@
+//! Statistics and plots of a results directory, written atomically beside `trials.jsonl`.
+//!
+//! Output layout of `<out>/`:
+//! - `trials.jsonl`: the raw results (see [`crate::store`]);
+//! - `summary.json`: experiment, fingerprint, machines, trial counts, files written;
+//! - `stats.json`, `stats.csv`: per instance, configuration, target and measure
+//!   ([`crate::stats::ConfigStats`]);
+//! - `tests.csv`: pairwise Mann-Whitney / KS tests with Holm-adjusted p-values;
+//! - `table.txt`: the table printed at the end of a run;
+//! - `plots/<instance>-<kind>[-<measure>][-q<target>].{png,svg}`.
+
+use std::path::{Path, PathBuf};
+
+use crate::plot::{self, PlotError, slug};
+use crate::spec::{PlotKind, Source, Spec};
+use crate::stats::{self, Group, Measure, StatsReport};
+use crate::store::{Session, TrialRecord, write_atomic};
+
+/// Errors writing a report.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A file could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A plot failed.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// What [`write_report`] produced.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// The statistics.
+    pub stats: StatsReport,
+    /// The printable table.
+    pub table: String,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// The records that belong to `spec`'s plan (its instances, configurations and trial count).
+pub fn plan_records<'a>(spec: &Spec, records: &'a [TrialRecord]) -> Vec<&'a TrialRecord> {
+    let inst = spec.instance_names();
+    let cfg = spec.config_labels();
+    records
+        .iter()
+        .filter(|r| r.trial < spec.trials && inst.contains(&r.instance) && cfg.contains(&r.config))
+        .collect()
+}
+
+fn write(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    write_atomic(path, bytes).map_err(|source| ReportError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    files.push(path.to_path_buf());
+    Ok(())
+}
+
+/// Computes statistics only (no files).
+pub fn compute_stats(spec: &Spec, records: &[TrialRecord]) -> StatsReport {
+    let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
+    let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
+    stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed)
+}
+
+/// Writes statistics (JSON, CSV, table) and, when `plots` is set, the spec's plots.
+pub fn write_report(
+    spec: &Spec,
+    records: &[TrialRecord],
+    sessions: &[Session],
+    out: &Path,
+    plots: bool,
+) -> Result<Report, ReportError> {
+    let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
+    let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
+    let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
+    let table = stats::table(&report);
+    let mut files = Vec::new();
+    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
+    write(&out.join("stats.json"), json.as_bytes(), &mut files)?;
+    write(
+        &out.join("stats.csv"),
+        stats::configs_csv(&report).as_bytes(),
+        &mut files,
+    )?;
+    write(
+        &out.join("tests.csv"),
+        stats::tests_csv(&report).as_bytes(),
+        &mut files,
+    )?;
+    write(&out.join("table.txt"), table.as_bytes(), &mut files)?;
+    if plots {
+        files.extend(draw_plots(spec, &groups, &out.join("plots"))?);
+    }
+    let planned = spec.trials_plan().len();
+    let summary = serde_json::json!({
+        "experiment": spec.name,
+        "description": spec.description,
+        "fingerprint": spec.fingerprint(),
+        "trials_planned": planned,
+        "trials_present": owned.len(),
+        "complete": owned.len() == planned,
+        "budget": spec.budget,
+        "sessions": sessions,
+        "configurations": spec.config_labels(),
+        "instances": spec.instance_names(),
+        "files": files.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
+    });
+    write(
+        &out.join("summary.json"),
+        serde_json::to_string_pretty(&summary)
+            .unwrap_or_default()
+            .as_bytes(),
+        &mut files,
+    )?;
+    Ok(Report {
+        stats: report,
+        table,
+        files,
+    })
+}
+
+/// Default target range of the error-time and ECDF plots: from the lowest target to the median
+/// first-trace RMSE, clamped to [1.2, 5] times the lowest target.
+fn error_range(spec: &Spec, groups: &[&Group<'_>], lo: f64) -> (f64, f64) {
+    if let Some([a, b]) = spec.plots.error_range {
+        return (a, b);
+    }
+    let mut first: Vec<f64> = groups
+        .iter()
+        .flat_map(|g| g.records.iter())
+        .filter_map(|r| r.result.trace.first().map(|p| p.rmse))
+        .filter(|x| x.is_finite())
+        .collect();
+    first.sort_by(f64::total_cmp);
+    let med = first.get(first.len() / 2).copied().unwrap_or(lo * 2.0);
+    let lo = lo.max(1e-12);
+    (lo, med.clamp(lo * 1.2, lo * 5.0))
+}
+
+/// Draws the plots the spec asks for; returns the files written.
+pub fn draw_plots(
+    spec: &Spec,
+    groups: &[Group<'_>],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut files = Vec::new();
+    let formats = &spec.plots.formats;
+    let wants = |k: PlotKind| spec.plots.draw.contains(&k);
+    for inst in &spec.instances {
+        let gs: Vec<&Group> = groups.iter().filter(|g| g.instance == inst.name).collect();
+        if gs.is_empty() {
+            continue;
+        }
+        let base = |kind: &str| dir.join(format!("{}-{kind}", slug(&inst.name)));
+        for &t in &inst.targets {
+            if wants(PlotKind::Rtd) {
+                let c = plot::rtd_chart(
+                    &inst.name,
+                    &gs,
+                    t,
+                    Measure::CpuSeconds,
+                    spec.budget.cpu_seconds,
+                );
+                files.extend(plot::draw(&c, &base(&format!("rtd-cpu-q{t}")), formats)?);
+            }
+            if wants(PlotKind::RtdEvaluations) {
+                let c = plot::rtd_chart(
+                    &inst.name,
+                    &gs,
+                    t,
+                    Measure::Evaluations,
+                    spec.budget.sample_evaluations.map(|e| e as f64),
+                );
+                files.extend(plot::draw(&c, &base(&format!("rtd-evals-q{t}")), formats)?);
+            }
+        }
+        let t0 = inst.run_target();
+        if wants(PlotKind::Sweep) {
+            files.extend(sweep_plots(spec, &inst.name, &gs, t0, dir)?);
+        }
+        if wants(PlotKind::Trace) {
+            let c = plot::trace_chart(&inst.name, &gs, spec.plots.trace_trials, &inst.targets);
+            files.extend(plot::draw(&c, &base("trace"), formats)?);
+        }
+        if wants(PlotKind::Scatter) {
+            let c = plot::scatter_chart(&inst.name, &gs, t0);
+            files.extend(plot::draw(&c, &base("scatter"), formats)?);
+        }
+        if wants(PlotKind::ErrorTime) || wants(PlotKind::Ecdf) {
+            let (lo, hi) = error_range(spec, &gs, t0);
+            let grid = plot::target_grid(lo, hi, spec.plots.error_steps);
+            if wants(PlotKind::ErrorTime) {
+                let c = plot::error_time_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
+                files.extend(plot::draw(&c, &base("error-time"), formats)?);
+            }
+            if wants(PlotKind::Ecdf) {
+                let c = plot::ecdf_targets_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
+                files.extend(plot::draw(&c, &base("ecdf-targets"), formats)?);
+            }
+        }
+    }
+    Ok(files)
+}
+
+type SweepRow = (f64, Option<f64>, Option<f64>, Option<f64>, Option<f64>);
+
+fn sweep_plots(
+    spec: &Spec,
+    instance: &str,
+    groups: &[&Group<'_>],
+    target: f64,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut files = Vec::new();
+    let mut algos: Vec<&str> = Vec::new();
+    for c in &spec.configurations {
+        if !c.swept.is_empty() && !algos.contains(&c.algorithm_label.as_str()) {
+            algos.push(&c.algorithm_label);
+        }
+    }
+    for algo in algos {
+        let cfgs: Vec<_> = spec
+            .configurations
+            .iter()
+            .filter(|c| c.algorithm_label == algo && !c.swept.is_empty())
+            .collect();
+        let param = cfgs[0].swept[0].0.clone();
+        // One series per combination of the other swept values.
+        let mut rows: Vec<(String, Vec<SweepRow>)> = Vec::new();
+        for c in &cfgs {
+            let others: Vec<String> = c.swept[1..]
+                .iter()
+                .map(|(k, v)| format!("{k}={}", crate::spec::format_value(*v)))
+                .collect();
+            let key = others.join(" ");
+            let Some(g) = groups.iter().find(|g| g.config == c.label) else {
+                continue;
+            };
+            let o = stats::group_outcomes(g, target, Measure::CpuSeconds);
+            let s = stats::summarise(&o, spec.stats.bootstrap, spec.seed);
+            let row = (c.swept[0].1, s.ert, s.ert_p10, s.ert_p90, s.quantiles[2]);
+            match rows.iter_mut().find(|r| r.0 == key) {
+                Some(r) => r.1.push(row),
+                None => rows.push((key, vec![row])),
+            }
+        }
+        for r in &mut rows {
+            r.1.sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        let xs: Vec<f64> = rows.iter().flat_map(|r| r.1.iter().map(|p| p.0)).collect();
+        let (mn, mx) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        let x_log = mn > 0.0 && mx / mn >= 10.0;
+        let title = format!("{algo}: ERT and median vs {param} - {instance}, target RMSE {target}");
+        let c = plot::sweep_chart(&title, &param, Measure::CpuSeconds, &rows, x_log);
+        let base = dir.join(format!(
+            "{}-sweep-{}-{}",
+            slug(instance),
+            slug(algo),
+            slug(&param)
+        ));
+        files.extend(plot::draw(&c, &base, &spec.plots.formats)?);
+    }
+    Ok(files)
+}
+
+/// A short description of where an instance's data comes from (for messages).
+pub fn source_text(source: &Source) -> String {
+    match source {
+        Source::Synthetic {
+            name,
+            samples,
+            sigma,
+            ..
+        } => format!(
+            "synthetic {} ({samples} samples, sigma {sigma})",
+            name.as_deref().unwrap_or("custom")
+        ),
+        Source::File { resolved, .. } => resolved.display().to_string(),
+    }
+}

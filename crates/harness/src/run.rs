@@ -1,0 +1,260 @@
+//! Running an experiment: trials in parallel on a rayon pool, results appended as they finish.
+//!
+//! Each trial is independent and sequential (sls::run_trial never spawns threads), so the
+//! worker thread's CPU clock measures it. Trial seeds depend only on (master seed, instance,
+//! configuration, trial index), so every trial's result is the same for any thread count;
+//! records are returned in plan order regardless of finishing order.
+
+use std::collections::HashSet;
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use sls::{AlgorithmConfig, BrdfObjective, Budget, TrialResult};
+
+use crate::instance::{BuiltInstance, InstanceError};
+use crate::machine::{MachineInfo, unix_now};
+use crate::progress::{Progress, ProgressMode};
+use crate::spec::{PlannedTrial, Spec};
+use crate::store::{FORMAT_VERSION, Header, ResultStore, StoreError, TrialRecord};
+
+/// Runs one trial. Implementations must be deterministic in the trial's seed for the
+/// seeding guarantees to hold (CPU-time cutoffs are the exception: they depend on speed).
+pub trait Executor: Sync {
+    /// Runs `trial` to `target` within `budget`.
+    fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult;
+}
+
+/// The real executor: sls algorithms on brdf-model objectives built once per instance.
+pub struct SlsExecutor {
+    objectives: Vec<BrdfObjective>,
+    configs: Vec<AlgorithmConfig>,
+}
+
+impl SlsExecutor {
+    /// Builds every instance's data set once (shared read-only by all trials).
+    pub fn new(spec: &Spec) -> Result<(Self, Vec<BuiltInstance>), InstanceError> {
+        let built: Vec<BuiltInstance> = spec
+            .instances
+            .iter()
+            .map(crate::instance::build)
+            .collect::<Result<_, _>>()?;
+        let objectives = built
+            .iter()
+            .map(|b| BrdfObjective::new(b.data.clone(), b.layout.clone()))
+            .collect();
+        Ok((
+            SlsExecutor {
+                objectives,
+                configs: spec
+                    .configurations
+                    .iter()
+                    .map(|c| c.algorithm.clone())
+                    .collect(),
+            },
+            built,
+        ))
+    }
+}
+
+impl Executor for SlsExecutor {
+    fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
+        sls::run_trial(
+            &self.objectives[trial.instance],
+            &self.configs[trial.config],
+            trial.seed,
+            budget,
+            target,
+        )
+    }
+}
+
+/// Options of a run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Worker threads.
+    pub threads: usize,
+    /// Move an existing results file aside instead of resuming or refusing it.
+    pub fresh: bool,
+    /// Progress display.
+    pub progress: ProgressMode,
+    /// Run at most this many new trials, then stop (the rest can be resumed later).
+    pub limit: Option<usize>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            threads: default_threads(),
+            fresh: false,
+            progress: ProgressMode::Auto,
+            limit: None,
+        }
+    }
+}
+
+/// All logical CPUs.
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+}
+
+/// Errors of a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The results store failed or refused.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// The thread pool could not be built.
+    #[error("cannot start {threads} worker threads: {message}")]
+    Pool {
+        /// Threads requested.
+        threads: usize,
+        /// rayon's message.
+        message: String,
+    },
+}
+
+/// What a run did.
+#[derive(Clone, Debug)]
+pub struct RunOutcome {
+    /// Every record of the plan present now (resumed and new), in plan order.
+    pub records: Vec<TrialRecord>,
+    /// Trials run in this session.
+    pub new_trials: usize,
+    /// Trials found already finished.
+    pub resumed: usize,
+    /// Trials of the plan still missing (after `limit`).
+    pub missing: usize,
+    /// Notes from the store (torn line recovered, old file moved).
+    pub notes: Vec<String>,
+    /// Wall seconds of this session's trials.
+    pub wall_seconds: f64,
+    /// This session's machine.
+    pub machine: MachineInfo,
+}
+
+/// The results header for `spec` on this machine.
+pub fn header_for(spec: &Spec, threads: usize) -> Header {
+    Header {
+        format: FORMAT_VERSION,
+        experiment: spec.name.clone(),
+        fingerprint: spec.fingerprint(),
+        created_unix: unix_now(),
+        machine: MachineInfo::current(threads),
+        spec: spec.canonical(),
+        spec_text: spec.text.clone(),
+    }
+}
+
+/// Runs (or resumes) `spec` into `out` with `executor`.
+pub fn run_experiment<E: Executor>(
+    spec: &Spec,
+    out: &Path,
+    options: &RunOptions,
+    executor: &E,
+) -> Result<RunOutcome, RunError> {
+    let threads = options.threads.max(1);
+    let header = header_for(spec, threads);
+    let machine = header.machine.clone();
+    let opened = ResultStore::open(out, header, options.fresh)?;
+    let plan = spec.trials_plan();
+    let plan_keys: HashSet<&str> = plan.iter().map(|t| t.key.as_str()).collect();
+    let done: HashSet<String> = opened
+        .records
+        .iter()
+        .filter(|r| plan_keys.contains(r.key.as_str()))
+        .map(|r| r.key.clone())
+        .collect();
+    let mut pending: Vec<&PlannedTrial> = plan.iter().filter(|t| !done.contains(&t.key)).collect();
+    let missing_after = pending
+        .len()
+        .saturating_sub(options.limit.unwrap_or(usize::MAX));
+    if let Some(l) = options.limit {
+        pending.truncate(l);
+    }
+
+    // Progress per configuration (summed over instances).
+    let labels = spec.config_labels();
+    let nc = labels.len();
+    let totals = vec![u64::from(spec.trials) * spec.instances.len() as u64; nc];
+    let mut done_c = vec![0u64; nc];
+    let mut ok_c = vec![0u64; nc];
+    for r in opened.records.iter().filter(|r| done.contains(&r.key)) {
+        if let Some(ci) = labels.iter().position(|l| *l == r.config) {
+            done_c[ci] += 1;
+            ok_c[ci] += u64::from(r.result.reached());
+        }
+    }
+    let progress = Progress::new(options.progress, &labels, &totals, &done_c, &ok_c);
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("trial-{i}"))
+        .build()
+        .map_err(|e| RunError::Pool {
+            threads,
+            message: e.to_string(),
+        })?;
+    let fresh_records = Mutex::new(Vec::with_capacity(pending.len()));
+    let started = Instant::now();
+    let store = &opened.store;
+    let result: Result<(), StoreError> = pool.install(|| {
+        pending
+            .par_iter()
+            // One trial per task: trials are long and uneven, so no batching.
+            .with_max_len(1)
+            .try_for_each(|t| {
+                let inst = &spec.instances[t.instance];
+                let target = inst.run_target();
+                let result = executor.run(t, target, spec.budget);
+                let record = TrialRecord {
+                    key: t.key.clone(),
+                    instance: inst.name.clone(),
+                    config: spec.configurations[t.config].label.clone(),
+                    trial: t.trial,
+                    seed: t.seed,
+                    target,
+                    budget: spec.budget,
+                    result,
+                };
+                store.append(&record)?;
+                progress.trial_done(t.config, record.result.reached());
+                fresh_records
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(record);
+                Ok(())
+            })
+    });
+    progress.finish();
+    result?;
+    let wall_seconds = started.elapsed().as_secs_f64();
+    let fresh_records = fresh_records
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner());
+    let new_trials = fresh_records.len();
+    let mut all: Vec<TrialRecord> = opened
+        .records
+        .into_iter()
+        .filter(|r| done.contains(&r.key))
+        .chain(fresh_records)
+        .collect();
+    let order: std::collections::HashMap<&str, usize> = plan
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (t.key.as_str(), i))
+        .collect();
+    all.sort_by_key(|r| order.get(r.key.as_str()).copied().unwrap_or(usize::MAX));
+    Ok(RunOutcome {
+        records: all,
+        new_trials,
+        resumed: done.len(),
+        missing: missing_after,
+        notes: opened.notes,
+        wall_seconds,
+        machine,
+    })
+}

@@ -1,0 +1,610 @@
+//! The crash-safe results store: `trials.jsonl`, one JSON object per line.
+//!
+//! Layout of `<out>/trials.jsonl`:
+//!
+//! 1. A header line `{"type":"header", ...}` holding the format version, the experiment name,
+//!    the spec fingerprint (hash of the canonicalised spec, see [`crate::spec::Plan::fingerprint`]),
+//!    the canonical spec itself and the machine of the first session.
+//! 2. One `{"type":"session", ...}` line per start (machine, threads, trials already present),
+//!    so resumed runs on other machines stay visible.
+//! 3. One `{"type":"trial", ...}` line per finished trial ([`TrialRecord`]).
+//!
+//! Each line is serialised completely in memory and then written with a single `write_all` and
+//! flushed while holding a mutex, so a kill can at worst leave one torn line at the very end.
+//! On open, an existing file with the same fingerprint is resumed: a torn tail (bytes after the
+//! last newline, or an unparsable last line) is copied to `trials.jsonl.torn-<unix time>` and
+//! truncated away; finished trials are returned so the runner skips them. A file with a different
+//! fingerprint is refused ([`StoreError::FingerprintMismatch`]); `fresh` renames it to
+//! `trials.jsonl.old-<unix time>` (never deletes it) and starts a new one.
+//!
+//! Derived files (summary, statistics, plots) are written with [`write_atomic`]: a temporary file
+//! in the same directory, fsync, then rename, so a reader never sees half a file.
+
+use std::fs::{File, OpenOptions};
+use std::io::{Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use serde::{Deserialize, Serialize};
+use sls::{Budget, TrialResult};
+
+use crate::machine::{MachineInfo, unix_now};
+
+/// Version of the `trials.jsonl` layout.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Name of the results file inside the output directory.
+pub const TRIALS_FILE: &str = "trials.jsonl";
+
+/// Errors of the results store.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    /// An I/O operation failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory involved.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The results file was written for a different spec.
+    #[error(
+        "{path} holds results of a different spec (stored fingerprint {found}, this spec {expected}).\n\
+         Refusing to mix them. Either write elsewhere with --out DIR, or start over with --fresh \
+         (the old file is renamed to {}.old-<time>, never deleted).",
+        TRIALS_FILE
+    )]
+    FingerprintMismatch {
+        /// The results file.
+        path: PathBuf,
+        /// Fingerprint stored in its header.
+        found: String,
+        /// Fingerprint of the current spec.
+        expected: String,
+    },
+    /// A complete line in the middle of the file does not parse.
+    #[error("{path}:{line}: corrupt results line ({message}); the file was not modified")]
+    Corrupt {
+        /// The results file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What failed to parse.
+        message: String,
+    },
+    /// The file has no header line.
+    #[error("{path}: missing header line (not a brdf-sls results file?)")]
+    MissingHeader {
+        /// The results file.
+        path: PathBuf,
+    },
+    /// The file has a newer format version.
+    #[error(
+        "{path}: results format version {found} is not supported (this build reads {FORMAT_VERSION})"
+    )]
+    Version {
+        /// The results file.
+        path: PathBuf,
+        /// Version found in the header.
+        found: u32,
+    },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StoreError + '_ {
+    move |source| StoreError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// First line of a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// Layout version ([`FORMAT_VERSION`]).
+    pub format: u32,
+    /// Experiment name.
+    pub experiment: String,
+    /// Fingerprint of the canonical spec: results are only resumed under the same fingerprint.
+    pub fingerprint: String,
+    /// When the file was created (Unix seconds).
+    pub created_unix: u64,
+    /// Machine of the first session.
+    pub machine: MachineInfo,
+    /// The canonical spec the fingerprint was computed from.
+    pub spec: serde_json::Value,
+    /// The spec's TOML text as given (lets `plot` and `stats` work from the results alone).
+    #[serde(default)]
+    pub spec_text: String,
+}
+
+/// One start of a run against a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Session {
+    /// Start time (Unix seconds).
+    pub started_unix: u64,
+    /// Machine and thread count of this session.
+    pub machine: MachineInfo,
+    /// Finished trials already in the file at the start.
+    pub trials_present: usize,
+}
+
+/// One finished trial.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrialRecord {
+    /// Unique key `instance/configuration/trial`.
+    pub key: String,
+    /// Instance name.
+    pub instance: String,
+    /// Configuration label.
+    pub config: String,
+    /// Trial index within (instance, configuration), from 0.
+    pub trial: u32,
+    /// The trial's seed ([`crate::seed::trial_seed`]).
+    pub seed: u64,
+    /// The RMSE the trial ran to (the instance's lowest target).
+    pub target: f64,
+    /// The budget the trial had.
+    pub budget: Budget,
+    /// What the trial returned (times, evaluations, anytime trace).
+    pub result: TrialResult,
+}
+
+impl TrialRecord {
+    /// The key of a trial.
+    pub fn make_key(instance: &str, config: &str, trial: u32) -> String {
+        format!("{instance}/{config}/{trial}")
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+enum Line {
+    Header(Header),
+    Session(Session),
+    Trial(TrialRecord),
+}
+
+/// Parses one line. serde_json writes non-finite floats as `null`; a trial that never evaluated
+/// a point has `best_rmse = +inf`, so `null` there is read back as +inf.
+fn decode_line(text: &str) -> Result<Line, serde_json::Error> {
+    let mut v: serde_json::Value = serde_json::from_str(text)?;
+    let mut infinite_best = false;
+    if let Some(best) = v
+        .get_mut("result")
+        .and_then(|r| r.get_mut("best_rmse"))
+        .filter(|b| b.is_null())
+    {
+        *best = serde_json::json!(0.0);
+        infinite_best = true;
+    }
+    let mut line: Line = serde_json::from_value(v)?;
+    if let (true, Line::Trial(rec)) = (infinite_best, &mut line) {
+        rec.result.best_rmse = f64::INFINITY;
+    }
+    Ok(line)
+}
+
+fn encode_line(line: &Line) -> String {
+    // Serialising plain data structs to a String cannot fail.
+    let mut s = serde_json::to_string(line).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+/// Contents of a results file as read back.
+#[derive(Clone, Debug)]
+pub struct Contents {
+    /// The header.
+    pub header: Header,
+    /// Sessions in file order.
+    pub sessions: Vec<Session>,
+    /// Finished trials (first occurrence of each key), in file order.
+    pub records: Vec<TrialRecord>,
+    /// Byte length of the well-formed prefix (everything up to the last good line).
+    pub good_len: u64,
+    /// Torn bytes after the good prefix, if any.
+    pub torn: Option<Vec<u8>>,
+    /// Keys that appeared more than once (later copies ignored).
+    pub duplicates: Vec<String>,
+}
+
+/// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
+/// the last one is.
+pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError> {
+    let mut header = None;
+    let mut sessions = Vec::new();
+    let mut records = Vec::new();
+    let mut duplicates = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    let mut pos = 0usize;
+    let mut good_len = 0usize;
+    let mut line_no = 0usize;
+    let mut torn = None;
+    while pos < bytes.len() {
+        line_no += 1;
+        let Some(nl) = bytes[pos..].iter().position(|&b| b == b'\n') else {
+            // No newline: the write of this line was interrupted.
+            torn = Some(bytes[pos..].to_vec());
+            break;
+        };
+        let end = pos + nl;
+        let is_last = end + 1 >= bytes.len();
+        let text = String::from_utf8_lossy(&bytes[pos..end]);
+        if text.trim().is_empty() {
+            pos = end + 1;
+            good_len = pos;
+            continue;
+        }
+        match decode_line(&text) {
+            Ok(Line::Header(h)) if header.is_none() => {
+                if h.format > FORMAT_VERSION {
+                    return Err(StoreError::Version {
+                        path: path.to_path_buf(),
+                        found: h.format,
+                    });
+                }
+                header = Some(h)
+            }
+            Ok(_) if header.is_none() => {
+                return Err(StoreError::MissingHeader {
+                    path: path.to_path_buf(),
+                });
+            }
+            Ok(Line::Header(_)) => {
+                return Err(StoreError::Corrupt {
+                    path: path.to_path_buf(),
+                    line: line_no,
+                    message: "a second header line".into(),
+                });
+            }
+            Ok(Line::Session(s)) => sessions.push(s),
+            Ok(Line::Trial(r)) => {
+                if seen.insert(r.key.clone()) {
+                    records.push(r);
+                } else {
+                    duplicates.push(r.key);
+                }
+            }
+            Err(e) if is_last => {
+                // A complete but unparsable last line can only come from an interrupted write
+                // that happened to end at a newline: treat it as torn.
+                let _ = e;
+                torn = Some(bytes[pos..].to_vec());
+                break;
+            }
+            Err(e) => {
+                return Err(StoreError::Corrupt {
+                    path: path.to_path_buf(),
+                    line: line_no,
+                    message: e.to_string(),
+                });
+            }
+        }
+        pos = end + 1;
+        good_len = pos;
+    }
+    let header = header.ok_or_else(|| StoreError::MissingHeader {
+        path: path.to_path_buf(),
+    })?;
+    Ok(Contents {
+        header,
+        sessions,
+        records,
+        good_len: good_len as u64,
+        torn,
+        duplicates,
+    })
+}
+
+/// Reads a results file (or `<dir>/trials.jsonl`) without modifying it; a torn tail is ignored.
+pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
+    let file = if path.is_dir() {
+        path.join(TRIALS_FILE)
+    } else {
+        path.to_path_buf()
+    };
+    let bytes = std::fs::read(&file).map_err(io_err(&file))?;
+    parse_contents(&file, &bytes)
+}
+
+/// What [`ResultStore::open`] found.
+#[derive(Debug)]
+pub struct Opened {
+    /// The store, positioned for appending.
+    pub store: ResultStore,
+    /// Trials already finished (resumed), in file order.
+    pub records: Vec<TrialRecord>,
+    /// Human-readable notes (torn line saved, old file moved aside, duplicates).
+    pub notes: Vec<String>,
+}
+
+/// An append-only results file shared by worker threads.
+#[derive(Debug)]
+pub struct ResultStore {
+    path: PathBuf,
+    file: Mutex<File>,
+}
+
+/// A path `base.<suffix>-<unix time>[-k]` that does not exist yet.
+fn aside_path(base: &Path, suffix: &str) -> PathBuf {
+    let stamp = unix_now();
+    let name = base
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut k = 0;
+    loop {
+        let candidate = if k == 0 {
+            base.with_file_name(format!("{name}.{suffix}-{stamp}"))
+        } else {
+            base.with_file_name(format!("{name}.{suffix}-{stamp}-{k}"))
+        };
+        if !candidate.exists() {
+            return candidate;
+        }
+        k += 1;
+    }
+}
+
+impl ResultStore {
+    /// Opens `<dir>/trials.jsonl` for `header`'s spec: creates it, resumes it (same
+    /// fingerprint), or refuses it (different fingerprint) unless `fresh` moves it aside.
+    /// Writes a session line for this start.
+    pub fn open(dir: &Path, header: Header, fresh: bool) -> Result<Opened, StoreError> {
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let path = dir.join(TRIALS_FILE);
+        let mut notes = Vec::new();
+        let mut records = Vec::new();
+        if path.exists() && fresh {
+            let aside = aside_path(&path, "old");
+            std::fs::rename(&path, &aside).map_err(io_err(&path))?;
+            notes.push(format!("moved the old results to {}", aside.display()));
+        }
+        let file = if path.exists() {
+            let mut file = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .open(&path)
+                .map_err(io_err(&path))?;
+            let mut bytes = Vec::new();
+            file.read_to_end(&mut bytes).map_err(io_err(&path))?;
+            let contents = match parse_contents(&path, &bytes) {
+                Err(StoreError::MissingHeader { .. }) if !bytes.contains(&b'\n') => {
+                    // Killed while writing the header: nothing of value; keep the bytes anyway.
+                    None
+                }
+                other => Some(other?),
+            };
+            match contents {
+                None => {
+                    drop(file);
+                    let aside = aside_path(&path, "torn");
+                    std::fs::rename(&path, &aside).map_err(io_err(&path))?;
+                    notes.push(format!(
+                        "results file had only a torn header; moved to {}",
+                        aside.display()
+                    ));
+                    Self::create(&path, &header)?
+                }
+                Some(c) => {
+                    if c.header.fingerprint != header.fingerprint {
+                        return Err(StoreError::FingerprintMismatch {
+                            path,
+                            found: c.header.fingerprint,
+                            expected: header.fingerprint,
+                        });
+                    }
+                    if let Some(torn) = &c.torn {
+                        let aside = aside_path(&path, "torn");
+                        std::fs::write(&aside, torn).map_err(io_err(&aside))?;
+                        file.set_len(c.good_len).map_err(io_err(&path))?;
+                        notes.push(format!(
+                            "ignored a torn last line ({} bytes, from an interrupted run); saved to {}",
+                            torn.len(),
+                            aside.display()
+                        ));
+                    }
+                    if !c.duplicates.is_empty() {
+                        notes.push(format!(
+                            "{} duplicate trial lines ignored (first copy kept)",
+                            c.duplicates.len()
+                        ));
+                    }
+                    file.seek(SeekFrom::End(0)).map_err(io_err(&path))?;
+                    records = c.records;
+                    file
+                }
+            }
+        } else {
+            Self::create(&path, &header)?
+        };
+        let store = ResultStore {
+            path,
+            file: Mutex::new(file),
+        };
+        store.write_line(&Line::Session(Session {
+            started_unix: unix_now(),
+            machine: header.machine.clone(),
+            trials_present: records.len(),
+        }))?;
+        Ok(Opened {
+            store,
+            records,
+            notes,
+        })
+    }
+
+    fn create(path: &Path, header: &Header) -> Result<File, StoreError> {
+        let mut file = OpenOptions::new()
+            .create_new(true)
+            .append(true)
+            .open(path)
+            .map_err(io_err(path))?;
+        file.write_all(encode_line(&Line::Header(header.clone())).as_bytes())
+            .and_then(|_| file.sync_data())
+            .map_err(io_err(path))?;
+        Ok(file)
+    }
+
+    fn write_line(&self, line: &Line) -> Result<(), StoreError> {
+        let text = encode_line(line);
+        // A poisoned lock only means another worker panicked mid-trial; the file is still fine.
+        let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        file.write_all(text.as_bytes())
+            .and_then(|_| file.flush())
+            .map_err(io_err(&self.path))
+    }
+
+    /// Appends one finished trial (one write + flush under the lock).
+    pub fn append(&self, record: &TrialRecord) -> Result<(), StoreError> {
+        self.write_line(&Line::Trial(record.clone()))
+    }
+
+    /// Path of the results file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+/// Writes `bytes` to `path` atomically: temporary file in the same directory, fsync, rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    if let Some(d) = dir {
+        std::fs::create_dir_all(d)?;
+    }
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    {
+        let mut f = File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sls::{EvalCounts, Stamp, StopReason, TracePoint};
+
+    fn header(fp: &str) -> Header {
+        Header {
+            format: FORMAT_VERSION,
+            experiment: "t".into(),
+            fingerprint: fp.into(),
+            created_unix: 0,
+            machine: MachineInfo::current(1),
+            spec: serde_json::json!({"a": 1}),
+            spec_text: String::new(),
+        }
+    }
+
+    fn record(i: u32, best: f64) -> TrialRecord {
+        let at = Stamp {
+            cpu_seconds: 0.5 + f64::from(i),
+            wall_seconds: 0.6,
+            evaluations: EvalCounts {
+                residual_rows: 10,
+                jacobian_rows: 20,
+                rmse_rows: 30,
+            },
+        };
+        TrialRecord {
+            key: TrialRecord::make_key("inst", "A", i),
+            instance: "inst".into(),
+            config: "A".into(),
+            trial: i,
+            seed: 42 + u64::from(i),
+            target: 0.1,
+            budget: Budget {
+                cpu_seconds: Some(2.0),
+                sample_evaluations: None,
+            },
+            result: TrialResult {
+                stop: StopReason::Target,
+                reached_at: Some(at),
+                ended_at: at,
+                best_rmse: best,
+                best_x: vec![1.0, 2.0],
+                trace: vec![TracePoint { at, rmse: 0.09 }],
+                counters: vec![("restarts".into(), 3)],
+            },
+        }
+    }
+
+    #[test]
+    fn round_trip_resume_torn_and_mismatch() {
+        let dir = tempfile::tempdir().unwrap();
+        let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        assert!(o.records.is_empty());
+        o.store.append(&record(0, 0.09)).unwrap();
+        o.store.append(&record(1, f64::INFINITY)).unwrap();
+        drop(o);
+        // Simulate a kill in the middle of a third line.
+        let path = dir.path().join(TRIALS_FILE);
+        let full = encode_line(&Line::Trial(record(2, 0.09)));
+        let mut f = OpenOptions::new().append(true).open(&path).unwrap();
+        f.write_all(&full.as_bytes()[..full.len() / 2]).unwrap();
+        drop(f);
+        let c = read_results(dir.path()).unwrap();
+        assert_eq!(c.records.len(), 2);
+        assert!(c.torn.is_some());
+        assert_eq!(c.records[0], record(0, 0.09));
+        assert!(c.records[1].result.best_rmse.is_infinite());
+
+        let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        assert_eq!(o.records.len(), 2);
+        assert!(o.notes.iter().any(|n| n.contains("torn")), "{:?}", o.notes);
+        o.store.append(&record(2, 0.09)).unwrap();
+        drop(o);
+        let c = read_results(dir.path()).unwrap();
+        assert_eq!(c.records.len(), 3);
+        assert!(c.torn.is_none());
+        assert_eq!(c.sessions.len(), 2);
+
+        let err = ResultStore::open(dir.path(), header("f2"), false).unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("--fresh") && msg.contains("--out"), "{msg}");
+        let o = ResultStore::open(dir.path(), header("f2"), true).unwrap();
+        assert!(o.records.is_empty());
+        let moved: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().contains(".old-"))
+            .collect();
+        assert_eq!(moved.len(), 1);
+    }
+
+    #[test]
+    fn corrupt_middle_line_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        o.store.append(&record(0, 0.09)).unwrap();
+        drop(o);
+        let path = dir.path().join(TRIALS_FILE);
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        text.push_str("{garbage\n");
+        text.push_str(&encode_line(&Line::Trial(record(1, 0.09))));
+        std::fs::write(&path, text).unwrap();
+        let err = read_results(&path).unwrap_err();
+        assert!(matches!(err, StoreError::Corrupt { line: 4, .. }), "{err}");
+    }
+
+    #[test]
+    fn atomic_write_replaces() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("sub/x.json");
+        write_atomic(&p, b"one").unwrap();
+        write_atomic(&p, b"two").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"two");
+        assert_eq!(
+            std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
+            1
+        );
+    }
+}

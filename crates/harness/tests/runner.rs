@@ -1,0 +1,184 @@
+//! Running experiments end to end: seeding invariance across thread counts, resume after an
+//! interruption, refusal of a different spec, and the written statistics and plots.
+
+mod common;
+
+use std::io::Write;
+
+use harness::progress::ProgressMode;
+use harness::run::{RunError, RunOptions, SlsExecutor, run_experiment};
+use harness::store::{StoreError, TRIALS_FILE, read_results};
+
+use common::{TINY, deterministic_view, spec};
+
+fn options(threads: usize) -> RunOptions {
+    RunOptions {
+        threads,
+        fresh: false,
+        progress: ProgressMode::Quiet,
+        limit: None,
+    }
+}
+
+#[test]
+fn results_identical_for_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let (exec, built) = SlsExecutor::new(&s).unwrap();
+    assert_eq!(built[0].data.len(), 400);
+    let one = run_experiment(&s, &dir.path().join("one"), &options(1), &exec).unwrap();
+    let two = run_experiment(&s, &dir.path().join("two"), &options(2), &exec).unwrap();
+    assert_eq!(one.records.len(), 12);
+    assert_eq!(one.new_trials, 12);
+    let a: Vec<String> = one.records.iter().map(deterministic_view).collect();
+    let b: Vec<String> = two.records.iter().map(deterministic_view).collect();
+    for (x, y) in a.iter().zip(&b) {
+        if x != y {
+            eprintln!("DIFF\n{x}\n{y}");
+        }
+    }
+    assert_eq!(a, b);
+    // Seeds differ between trials and configurations.
+    let mut seeds: Vec<u64> = one.records.iter().map(|r| r.seed).collect();
+    seeds.sort();
+    seeds.dedup();
+    assert_eq!(seeds.len(), 12);
+    // The stored file reads back to the same records (plan order is restored on read).
+    let stored = read_results(&dir.path().join("two")).unwrap();
+    let mut c: Vec<String> = stored.records.iter().map(deterministic_view).collect();
+    let mut a_sorted = a.clone();
+    c.sort();
+    a_sorted.sort();
+    assert_eq!(c, a_sorted);
+    assert_eq!(stored.header.machine.threads, 2);
+}
+
+#[test]
+fn resume_after_interruption_matches_uninterrupted_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let full = run_experiment(&s, &dir.path().join("full"), &options(2), &exec).unwrap();
+
+    // Interrupted run: 5 trials, then a kill in the middle of writing the 6th line.
+    let out = dir.path().join("interrupted");
+    let mut opts = options(2);
+    opts.limit = Some(5);
+    let part = run_experiment(&s, &out, &opts, &exec).unwrap();
+    assert_eq!(part.new_trials, 5);
+    assert_eq!(part.missing, 7);
+    let path = out.join(TRIALS_FILE);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let last = text.lines().last().unwrap().to_string();
+    let mut f = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&path)
+        .unwrap();
+    f.write_all(&last.as_bytes()[..last.len() / 2]).unwrap();
+    drop(f);
+
+    let resumed = run_experiment(&s, &out, &options(1), &exec).unwrap();
+    assert_eq!(resumed.resumed, 5);
+    assert_eq!(resumed.new_trials, 7);
+    assert!(
+        resumed.notes.iter().any(|n| n.contains("torn")),
+        "{:?}",
+        resumed.notes
+    );
+    let a: Vec<String> = full.records.iter().map(deterministic_view).collect();
+    let b: Vec<String> = resumed.records.iter().map(deterministic_view).collect();
+    assert_eq!(a, b);
+    // The file itself is clean again: 12 trials, no torn tail, two sessions (interrupted + resumed).
+    let c = read_results(&out).unwrap();
+    assert_eq!(c.records.len(), 12);
+    assert!(c.torn.is_none());
+    assert_eq!(c.sessions.len(), 2);
+    // A run with nothing left to do adds nothing.
+    let again = run_experiment(&s, &out, &options(2), &exec).unwrap();
+    assert_eq!(again.new_trials, 0);
+    assert_eq!(again.records.len(), 12);
+}
+
+#[test]
+fn different_spec_is_refused_and_fresh_moves_it_aside() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let out = dir.path().join("r");
+    let mut opts = options(2);
+    opts.limit = Some(2);
+    run_experiment(&s, &out, &opts, &exec).unwrap();
+
+    let other = spec(&TINY.replace("seed = 11", "seed = 12"), dir.path());
+    let err = run_experiment(&other, &out, &opts, &exec).unwrap_err();
+    assert!(
+        matches!(err, RunError::Store(StoreError::FingerprintMismatch { .. })),
+        "{err}"
+    );
+    let msg = err.to_string();
+    assert!(msg.contains("--out") && msg.contains("--fresh"), "{msg}");
+
+    // More trials (a spec change outside the fingerprint) resumes instead.
+    let more = spec(&TINY.replace("trials = 4", "trials = 5"), dir.path());
+    let r = run_experiment(&more, &out, &opts, &exec).unwrap();
+    assert_eq!(r.resumed, 2);
+
+    let mut fresh = opts.clone();
+    fresh.fresh = true;
+    let r = run_experiment(&other, &out, &fresh, &exec).unwrap();
+    assert_eq!(r.resumed, 0);
+    let aside = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("trials.jsonl.old-")
+        })
+        .count();
+    assert_eq!(aside, 1);
+}
+
+#[test]
+fn report_writes_statistics_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let out = dir.path().join("r");
+    let run = run_experiment(&s, &out, &options(2), &exec).unwrap();
+    let c = read_results(&out).unwrap();
+    let report = harness::report::write_report(&s, &run.records, &c.sessions, &out, true).unwrap();
+    // 3 configurations x 2 targets.
+    assert_eq!(report.stats.configs.len(), 6);
+    assert!(report.table.contains("AED phi=1.2"), "{}", report.table);
+    for name in [
+        "stats.json",
+        "stats.csv",
+        "tests.csv",
+        "summary.json",
+        "table.txt",
+    ] {
+        assert!(out.join(name).metadata().unwrap().len() > 0, "{name}");
+    }
+    let plots = out.join("plots");
+    for base in [
+        "tuning-rtd-cpu-q0.105",
+        "tuning-rtd-evals-q0.12",
+        "tuning-sweep-AED-phi",
+        "tuning-trace",
+        "tuning-scatter",
+        "tuning-error-time",
+        "tuning-ecdf-targets",
+    ] {
+        for ext in ["png", "svg"] {
+            let p = plots.join(format!("{base}.{ext}"));
+            let len = p.metadata().map(|m| m.len()).unwrap_or(0);
+            assert!(len > 1000, "{} missing or tiny", p.display());
+        }
+    }
+    let csv = std::fs::read_to_string(out.join("stats.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 6 * 2);
+    let tests = std::fs::read_to_string(out.join("tests.csv")).unwrap();
+    // 3 pairs x 2 targets x 2 measures.
+    assert_eq!(tests.lines().count(), 1 + 12);
+}

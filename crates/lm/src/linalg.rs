@@ -1,0 +1,299 @@
+//! Small dense linear algebra, hand-written for p up to ~40 (see the crate docs for why).
+//!
+//! Matrices are column-major `n x n` slices; only what the solver needs.
+
+/// Dot product with four accumulators so the compiler can vectorise the long (m-row) sums.
+#[inline]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0f64; 4];
+    let mut ca = a.chunks_exact(4);
+    let mut cb = b.chunks_exact(4);
+    for (x, y) in (&mut ca).zip(&mut cb) {
+        acc[0] += x[0] * y[0];
+        acc[1] += x[1] * y[1];
+        acc[2] += x[2] * y[2];
+        acc[3] += x[3] * y[3];
+    }
+    let mut tail = 0.0;
+    for (x, y) in ca.remainder().iter().zip(cb.remainder()) {
+        tail += x * y;
+    }
+    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
+}
+
+/// Euclidean norm (no overflow protection is needed: inputs are scaled steps and gradients).
+#[inline]
+pub(crate) fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// In-place Householder QR of the column-major `rows x cols` matrix `a` (leading dimension
+/// `rows`), applying the same reflections to `rhs` (length `rows`). On return the upper triangle
+/// of `a` holds `R` (diagonal entries may be negative) and `rhs` holds `Q^T rhs`. Working on `J`
+/// itself instead of `J^T J` keeps the condition number from being squared, which the
+/// ill-conditioned NIST problems (Lanczos, Bennett5) need.
+pub(crate) fn householder_qr(a: &mut [f64], rows: usize, cols: usize, rhs: &mut [f64]) {
+    for k in 0..rows.min(cols) {
+        let (head, tail) = a.split_at_mut((k + 1) * rows);
+        let v = &mut head[k * rows + k..(k + 1) * rows];
+        let alpha0 = norm(v);
+        if alpha0 == 0.0 {
+            continue;
+        }
+        let alpha = if v[0] > 0.0 { -alpha0 } else { alpha0 };
+        v[0] -= alpha;
+        let vtv = dot(v, v);
+        if vtv == 0.0 {
+            v[0] += alpha;
+            continue;
+        }
+        let beta = 2.0 / vtv;
+        for j in 0..cols - k - 1 {
+            let col = &mut tail[j * rows + k..(j + 1) * rows];
+            let w = beta * dot(v, col);
+            for (c, &vi) in col.iter_mut().zip(v.iter()) {
+                *c -= w * vi;
+            }
+        }
+        let rr = &mut rhs[k..rows];
+        let w = beta * dot(v, rr);
+        for (c, &vi) in rr.iter_mut().zip(v.iter()) {
+            *c -= w * vi;
+        }
+        // Store R's diagonal; the reflector below it is no longer needed.
+        v[0] = alpha;
+        for vi in v[1..].iter_mut() {
+            *vi = 0.0;
+        }
+    }
+}
+
+/// Given upper-triangular `t` (`n x n`) and `u`, computes upper-triangular `tl` with
+/// `tl^T tl = t^T t + lam I` and the correspondingly rotated `ul` (Givens rotations eliminating
+/// the rows `sqrt(lam) e_i`, MINPACK's qrsolv). `w` is scratch of length `n`.
+pub(crate) fn shifted_triangular(
+    t: &[f64],
+    u: &[f64],
+    n: usize,
+    lam: f64,
+    tl: &mut [f64],
+    ul: &mut [f64],
+    w: &mut [f64],
+) {
+    tl[..n * n].copy_from_slice(&t[..n * n]);
+    ul[..n].copy_from_slice(&u[..n]);
+    let sl = lam.sqrt();
+    for i in 0..n {
+        w[..n].fill(0.0);
+        w[i] = sl;
+        let mut wr = 0.0;
+        for k in i..n {
+            if w[k] == 0.0 {
+                continue;
+            }
+            let tkk = tl[k * n + k];
+            // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
+            // D-scaled, far from overflow.
+            let r = (tkk * tkk + w[k] * w[k]).sqrt();
+            let (cs, sn) = (tkk / r, w[k] / r);
+            for j in k..n {
+                let a = tl[j * n + k];
+                let b = w[j];
+                tl[j * n + k] = cs * a + sn * b;
+                w[j] = -sn * a + cs * b;
+            }
+            let a = ul[k];
+            ul[k] = cs * a + sn * wr;
+            wr = -sn * a + cs * wr;
+        }
+    }
+}
+
+/// Solves `T z = b` in place for upper-triangular `t` (`n x n`, column-major).
+pub(crate) fn upper_solve(t: &[f64], n: usize, b: &mut [f64]) {
+    for j in (0..n).rev() {
+        let v = b[j] / t[j * n + j];
+        b[j] = v;
+        for i in 0..j {
+            b[i] -= t[j * n + i] * v;
+        }
+    }
+}
+
+/// Solves `T^T q = b` in place for upper-triangular `t` (forward substitution).
+pub(crate) fn upper_transpose_solve(t: &[f64], n: usize, b: &mut [f64]) {
+    for j in 0..n {
+        let col = &t[j * n..(j + 1) * n];
+        let mut s = b[j];
+        for i in 0..j {
+            s -= col[i] * b[i];
+        }
+        b[j] = s / col[j];
+    }
+}
+
+/// `out = J^T v`.
+pub(crate) fn jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
+    for j in 0..p {
+        out[j] = dot(&jac[j * m..(j + 1) * m], v);
+    }
+}
+
+/// `out = A v` for a symmetric (full storage) `n x n` matrix.
+pub(crate) fn sym_mat_vec(a: &[f64], v: &[f64], n: usize, out: &mut [f64]) {
+    for o in out[..n].iter_mut() {
+        *o = 0.0;
+    }
+    for (j, &vj) in v[..n].iter().enumerate() {
+        if vj != 0.0 {
+            let col = &a[j * n..(j + 1) * n];
+            for (o, &c) in out[..n].iter_mut().zip(col) {
+                *o += c * vj;
+            }
+        }
+    }
+}
+
+/// In-place Cholesky `A + shift I = L L^T` of the symmetric `n x n` matrix `a` into `l`
+/// (lower triangle, column-major). Fails (returns false) when a pivot is not above
+/// `rel_tol * max(diag(A + shift I))`: the matrix is then treated as not positive definite,
+/// which is how rank deficiency of `J` shows up.
+pub(crate) fn cholesky_shifted(
+    a: &[f64],
+    shift: f64,
+    n: usize,
+    rel_tol: f64,
+    l: &mut [f64],
+) -> bool {
+    let mut dmax = 0.0f64;
+    for i in 0..n {
+        dmax = dmax.max(a[i * n + i] + shift);
+    }
+    if !(dmax > 0.0) || !dmax.is_finite() {
+        return n == 0;
+    }
+    let tol = rel_tol * dmax;
+    for j in 0..n {
+        // Column j of L: l_ij = (a_ij - sum_k<j l_ik l_jk) / l_jj.
+        let mut s = a[j * n + j] + shift;
+        for k in 0..j {
+            let v = l[k * n + j];
+            s -= v * v;
+        }
+        if !(s > tol) {
+            return false;
+        }
+        let d = s.sqrt();
+        l[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[j * n + i];
+            for k in 0..j {
+                s -= l[k * n + i] * l[k * n + j];
+            }
+            l[j * n + i] = s / d;
+        }
+    }
+    true
+}
+
+/// Solves `L y = b` in place (forward substitution).
+pub(crate) fn forward_solve(l: &[f64], n: usize, b: &mut [f64]) {
+    for j in 0..n {
+        let v = b[j] / l[j * n + j];
+        b[j] = v;
+        for i in j + 1..n {
+            b[i] -= l[j * n + i] * v;
+        }
+    }
+}
+
+/// Solves `L^T y = b` in place (back substitution).
+pub(crate) fn backward_solve(l: &[f64], n: usize, b: &mut [f64]) {
+    for j in (0..n).rev() {
+        let col = &l[j * n..(j + 1) * n];
+        let mut s = b[j];
+        for i in j + 1..n {
+            s -= col[i] * b[i];
+        }
+        b[j] = s / col[j];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cholesky_solves_spd_system() {
+        let a = [4.0, 2.0, 0.6, 2.0, 5.0, 1.0, 0.6, 1.0, 3.0];
+        let mut l = [0.0; 9];
+        assert!(cholesky_shifted(&a, 0.0, 3, 1e-14, &mut l));
+        let mut b = [1.0, 2.0, 3.0];
+        forward_solve(&l, 3, &mut b);
+        backward_solve(&l, 3, &mut b);
+        let mut ax = [0.0; 3];
+        sym_mat_vec(&a, &b, 3, &mut ax);
+        for (v, e) in ax.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((v - e).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn cholesky_rejects_singular_and_accepts_shift() {
+        let a = [1.0, 1.0, 1.0, 1.0];
+        let mut l = [0.0; 4];
+        assert!(!cholesky_shifted(&a, 0.0, 2, 1e-14, &mut l));
+        assert!(cholesky_shifted(&a, 1e-3, 2, 1e-14, &mut l));
+    }
+
+    #[test]
+    fn qr_and_shift_match_normal_equations() {
+        // J is 4x3; check R^T R = J^T J, and tl^T tl = R^T R + lam I.
+        let j = [1.0, 2.0, 0.5, -1.0, 0.3, 1.0, 2.0, 0.0, -2.0, 1.0, 1.0, 3.0];
+        let mut a = j;
+        let mut rhs = [1.0, -1.0, 2.0, 0.5];
+        householder_qr(&mut a, 4, 3, &mut rhs);
+        let mut r = [0.0; 9];
+        for c in 0..3 {
+            for i in 0..=c {
+                r[c * 3 + i] = a[c * 4 + i];
+            }
+        }
+        let lam = 0.7;
+        let (mut tl, mut ul, mut w) = ([0.0; 9], [0.0; 3], [0.0; 3]);
+        shifted_triangular(&r, &rhs[..3], 3, lam, &mut tl, &mut ul, &mut w);
+        for c1 in 0..3 {
+            for c2 in 0..3 {
+                let jtj: f64 = (0..4).map(|i| j[c1 * 4 + i] * j[c2 * 4 + i]).sum();
+                let rtr: f64 = (0..3).map(|i| r[c1 * 3 + i] * r[c2 * 3 + i]).sum();
+                let ttt: f64 = (0..3).map(|i| tl[c1 * 3 + i] * tl[c2 * 3 + i]).sum();
+                assert!((jtj - rtr).abs() < 1e-12);
+                let shift = if c1 == c2 { lam } else { 0.0 };
+                assert!((jtj + shift - ttt).abs() < 1e-12);
+            }
+        }
+        // Solves: T z = b and T^T q = b.
+        let mut z = [1.0, 2.0, 3.0];
+        upper_solve(&r, 3, &mut z);
+        let mut q = z;
+        for i in 0..3 {
+            let v: f64 = (i..3).map(|c| r[c * 3 + i] * z[c]).sum();
+            assert!((v - [1.0, 2.0, 3.0][i]).abs() < 1e-12);
+        }
+        upper_transpose_solve(&r, 3, &mut q);
+        for i in 0..3 {
+            let v: f64 = (0..=i).map(|k| r[i * 3 + k] * q[k]).sum();
+            assert!((v - z[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn dot_matches_naive() {
+        let a: Vec<f64> = (0..11).map(|i| i as f64 * 0.5).collect();
+        let b: Vec<f64> = (0..11).map(|i| 1.0 - i as f64).collect();
+        let naive: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+        assert!((dot(&a, &b) - naive).abs() < 1e-12);
+    }
+}

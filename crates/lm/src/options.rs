@@ -1,0 +1,212 @@
+//! Options, outcomes, reports and errors.
+
+/// Which quadratic model the step is computed from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepModel {
+    /// Gauss-Newton model `J^T J` only (a Levenberg-Marquardt trust-region method).
+    GaussNewton,
+    /// NL2SOL's adaptive choice between the Gauss-Newton model and the augmented model
+    /// `J^T J + S`, where `S` is a secant approximation of the second-order term
+    /// `sum_i r_i H_i`; the solver switches when the other model predicted the actual reduction
+    /// better.
+    Adaptive,
+}
+
+/// Solver options. [`Options::default`] gives PORT's double-precision defaults (see the crate
+/// docs for the meaning of each test).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Iteration limit (PORT MXITER, default 150). An iteration is one Jacobian evaluation and
+    /// the step trials from that point.
+    pub max_iterations: usize,
+    /// Residual-evaluation limit (PORT MXFCAL, default 200); the starting evaluation counts.
+    pub max_evaluations: usize,
+    /// Relative function convergence tolerance (RFCTOL, default 1e-10).
+    pub rel_function_tol: f64,
+    /// X-convergence tolerance (XCTOL, default sqrt(eps) = 1.49e-8).
+    pub x_tol: f64,
+    /// False-convergence tolerance (XFTOL, default 100 eps = 2.2e-14).
+    pub false_conv_tol: f64,
+    /// Absolute function convergence tolerance (AFCTOL, default 1e-20) on `f = 0.5 sum r^2`.
+    pub abs_function_tol: f64,
+    /// Singular convergence tolerance (SCTOL, default 1e-10).
+    pub singular_tol: f64,
+    /// Initial trust radius in the scaled norm `||D s||` (LMAX0, default 1).
+    pub initial_radius: f64,
+    /// Radius of the singular-convergence test step (LMAXS, default 1).
+    pub singular_radius: f64,
+    /// Quadratic model (default [`StepModel::GaussNewton`], which measured better than
+    /// [`StepModel::Adaptive`] on NIST; see the crate docs).
+    pub model: StepModel,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            max_iterations: 150,
+            max_evaluations: 200,
+            rel_function_tol: 1e-10,
+            x_tol: f64::EPSILON.sqrt(),
+            false_conv_tol: 100.0 * f64::EPSILON,
+            abs_function_tol: 1e-20,
+            singular_tol: 1e-10,
+            initial_radius: 1.0,
+            singular_radius: 1.0,
+            model: crate::DEFAULT_MODEL,
+        }
+    }
+}
+
+impl Options {
+    /// Checks every field; the error names the offending field.
+    pub fn validate(&self) -> Result<(), SolveError> {
+        let tol = |name: &str, v: f64, lo: f64| -> Result<(), SolveError> {
+            if v.is_finite() && v >= lo && v < 1.0 {
+                Ok(())
+            } else {
+                Err(SolveError::InvalidOptions(format!(
+                    "{name} = {v} must be finite, >= {lo:e} and < 1"
+                )))
+            }
+        };
+        if self.max_iterations == 0 {
+            return Err(SolveError::InvalidOptions(
+                "max_iterations must be at least 1".into(),
+            ));
+        }
+        if self.max_evaluations == 0 {
+            return Err(SolveError::InvalidOptions(
+                "max_evaluations must be at least 1".into(),
+            ));
+        }
+        tol("rel_function_tol", self.rel_function_tol, 0.0)?;
+        tol("x_tol", self.x_tol, 0.0)?;
+        tol("false_conv_tol", self.false_conv_tol, 0.0)?;
+        tol("singular_tol", self.singular_tol, 0.0)?;
+        if !(self.abs_function_tol.is_finite() && self.abs_function_tol >= 0.0) {
+            return Err(SolveError::InvalidOptions(format!(
+                "abs_function_tol = {} must be finite and >= 0",
+                self.abs_function_tol
+            )));
+        }
+        for (name, v) in [
+            ("initial_radius", self.initial_radius),
+            ("singular_radius", self.singular_radius),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(SolveError::InvalidOptions(format!(
+                    "{name} = {v} must be finite and > 0"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How a solve ended, with N2FB's meanings and codes (IV(1)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Outcome {
+    /// 3: the scaled relative change of x to a local optimum is very likely at most `x_tol`.
+    XConvergence,
+    /// 4: f is very likely within `rel_function_tol` (relative) of its local optimum.
+    RelativeFunctionConvergence,
+    /// 5: both 3 and 4.
+    BothConvergence,
+    /// 6: f < `abs_function_tol`.
+    AbsoluteFunctionConvergence,
+    /// 7: the Hessian near x looks singular: a step of scaled length at most `singular_radius`
+    /// is unlikely to reduce f by more than `singular_tol` relative.
+    SingularConvergence,
+    /// 8: the iterates seem to converge to a non-critical point (the trust radius shrank to
+    /// round-off without progress: tolerances too tight for f's accuracy, a wrong Jacobian, or a
+    /// discontinuous f).
+    FalseConvergence,
+    /// 9: the residual-evaluation limit was reached.
+    EvaluationLimit,
+    /// 10: the iteration limit was reached.
+    IterationLimit,
+}
+
+impl Outcome {
+    /// N2FB's return code (3..=10).
+    pub fn code(self) -> u8 {
+        match self {
+            Outcome::XConvergence => 3,
+            Outcome::RelativeFunctionConvergence => 4,
+            Outcome::BothConvergence => 5,
+            Outcome::AbsoluteFunctionConvergence => 6,
+            Outcome::SingularConvergence => 7,
+            Outcome::FalseConvergence => 8,
+            Outcome::EvaluationLimit => 9,
+            Outcome::IterationLimit => 10,
+        }
+    }
+
+    /// True for codes 3..=6 (what R's nlminb and nls(port) count as convergence).
+    pub fn is_success(self) -> bool {
+        self.code() <= 6
+    }
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = match self {
+            Outcome::XConvergence => "x-convergence",
+            Outcome::RelativeFunctionConvergence => "relative function convergence",
+            Outcome::BothConvergence => "x- and relative function convergence",
+            Outcome::AbsoluteFunctionConvergence => "absolute function convergence",
+            Outcome::SingularConvergence => "singular convergence",
+            Outcome::FalseConvergence => "false convergence",
+            Outcome::EvaluationLimit => "evaluation limit",
+            Outcome::IterationLimit => "iteration limit",
+        };
+        write!(f, "{s} ({})", self.code())
+    }
+}
+
+/// Result of a solve; the solution itself is left in the `x` slice passed to
+/// [`crate::Solver::solve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Report {
+    /// Why the solve stopped.
+    pub outcome: Outcome,
+    /// `0.5 * sum r_i^2` at the returned x.
+    pub f: f64,
+    /// Iterations (Jacobian evaluations made by the iteration loop).
+    pub iterations: usize,
+    /// Calls to [`crate::Problem::residuals`] (each computes all m residuals).
+    pub residual_evaluations: usize,
+    /// Calls to [`crate::Problem::jacobian`].
+    pub jacobian_evaluations: usize,
+}
+
+/// Errors that prevent a solve from starting (N2FB's input errors).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// `lower[index] > upper[index]`, or a bound is NaN (PORT code 82).
+    #[error("inconsistent bounds for parameter {index}: lower {lower} > upper {upper} (or NaN)")]
+    InconsistentBounds {
+        /// Parameter index.
+        index: usize,
+        /// Its lower bound.
+        lower: f64,
+        /// Its upper bound.
+        upper: f64,
+    },
+    /// The residuals (or the Jacobian) cannot be computed at the (projected) start (PORT 63/65).
+    #[error("residuals or Jacobian cannot be evaluated at the starting point")]
+    StartNotEvaluable,
+    /// An option is out of range; the message names the field.
+    #[error("invalid options: {0}")]
+    InvalidOptions(String),
+    /// A slice has the wrong length.
+    #[error("dimension mismatch: {what} has length {found}, expected {expected}")]
+    DimensionMismatch {
+        /// Which argument.
+        what: &'static str,
+        /// Required length.
+        expected: usize,
+        /// Given length.
+        found: usize,
+    },
+}

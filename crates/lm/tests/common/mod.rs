@@ -1,0 +1,2 @@
+pub mod expsum;
+pub mod nist;

@@ -1,0 +1,257 @@
+//! Time-to-target of AED, AERS and RPLS on the paper's tuning instance (Table 2: one
+//! anisotropic lobe, 10000 samples, sigma 0.1, target 0.11), in CPU time and sample-evaluations.
+//!
+//! ```text
+//! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
+//!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
+//!     [--raw-exponent] [--overshoot]
+//! ```
+//! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
+//! stall limit (0: off, as in the paper). Trials run one after the
+//! other on one thread (trial seeds 1..=seeds). Censored trials (cutoff reached) count as +inf in
+//! the percentiles.
+
+use brdf_model::{ExponentCoord, Layout, LobeKind, named_params, synthetic};
+use sls::{
+    AedConfig, AersConfig, AlgorithmConfig, BrdfObjective, Budget, DescentLimits, DsConfig, Rows,
+    RplsConfig, Search, TrialContext, run_trial,
+};
+use std::sync::Arc;
+
+struct Args {
+    seeds: u64,
+    cutoff: f64,
+    algorithms: Vec<String>,
+    ks: Vec<usize>,
+    stalls: Vec<usize>,
+    instance_seed: u64,
+    target: f64,
+    verbose: bool,
+    overshoot: bool,
+    raw_exponent: bool,
+}
+
+fn parse() -> Result<Args, String> {
+    let mut a = Args {
+        seeds: 100,
+        cutoff: 10.0,
+        algorithms: vec!["aed".into(), "aers".into(), "rpls".into()],
+        ks: vec![sls::algorithms::aed::DEFAULT_DESCENT_ITERATIONS],
+        stalls: vec![sls::algorithms::aed::DEFAULT_STALL_LIMIT],
+        instance_seed: 1,
+        target: 0.11,
+        verbose: false,
+        overshoot: false,
+        raw_exponent: false,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        if flag == "--raw-exponent" {
+            a.raw_exponent = true;
+            continue;
+        }
+        if flag == "--overshoot" {
+            a.overshoot = true;
+            continue;
+        }
+        if flag == "--verbose" {
+            a.verbose = true;
+            continue;
+        }
+        let value = it.next().ok_or(format!("{flag} needs a value"))?;
+        let bad = |e: &dyn std::fmt::Display| format!("{flag} {value}: {e}");
+        match flag.as_str() {
+            "--seeds" => a.seeds = value.parse().map_err(|e| bad(&e))?,
+            "--cutoff" => a.cutoff = value.parse().map_err(|e| bad(&e))?,
+            "--instance-seed" => a.instance_seed = value.parse().map_err(|e| bad(&e))?,
+            "--target" => a.target = value.parse().map_err(|e| bad(&e))?,
+            "--algorithms" => a.algorithms = value.split(',').map(String::from).collect(),
+            "--k" => {
+                a.ks = value
+                    .split(',')
+                    .map(|s| s.parse().map_err(|e| bad(&e)))
+                    .collect::<Result<_, _>>()?
+            }
+            "--stall" => {
+                a.stalls = value
+                    .split(',')
+                    .map(|s| s.parse().map_err(|e| bad(&e)))
+                    .collect::<Result<_, _>>()?
+            }
+            _ => return Err(format!("unknown flag {flag}")),
+        }
+    }
+    Ok(a)
+}
+
+/// The q-quantile (nearest rank) of sorted values.
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    let i = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
+    sorted[i]
+}
+
+fn fmt_evals(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.0}", v)
+    } else {
+        "censored".into()
+    }
+}
+
+fn fmt_ms(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.2}", v * 1e3)
+    } else {
+        "censored".into()
+    }
+}
+
+fn main() {
+    let args = match parse() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
+    let truth = named_params("tuning").expect("tuning is a named BRDF");
+    let data = Arc::new(synthetic(&truth, 10000, 0.1, args.instance_seed));
+    let coord = if args.raw_exponent {
+        ExponentCoord::Raw
+    } else {
+        ExponentCoord::Log1p
+    };
+    let layout = Layout::builder(&[LobeKind::Anisotropic])
+        .exponent_coord(coord)
+        .build()
+        .expect("default layout");
+    let objective = BrdfObjective::new(data, layout);
+
+    // The instance's optimum, as far as a descent from the true parameters finds it.
+    let x_true = objective.layout().encode(&truth);
+    let mut ctx = TrialContext::new(&objective, 0, Budget::default(), 0.0);
+    let rmse_true = ctx.evaluate(&x_true).unwrap_or(f64::NAN);
+    let mut x = x_true.clone();
+    let descent = ctx.descend(&mut x, Rows::Full, DescentLimits::default());
+    let rmse_opt = ctx.evaluate(&x).unwrap_or(f64::NAN);
+    println!(
+        "instance: tuning, 10000 samples, sigma 0.1, instance seed {}, exponent coordinate \
+         {coord:?}; RMSE at the true parameters {rmse_true:.6}; after a full-data descent from \
+         them {rmse_opt:.6} ({:?}); target {}",
+        args.instance_seed,
+        descent.map(|d| d.end),
+        args.target
+    );
+    println!("fitted: {:?}", objective.layout().decode(&x));
+
+    if args.overshoot {
+        measure_overshoot(&objective, &args);
+        return;
+    }
+
+    let budget = Budget {
+        cpu_seconds: Some(args.cutoff),
+        sample_evaluations: None,
+    };
+    println!(
+        "| algorithm | K | stall limit | reached | median evals | p90 evals | median CPU ms | p90 CPU ms | mean CPU ms/trial (all) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for name in &args.algorithms {
+        let variants: Vec<Option<(usize, usize)>> = if name == "rpls" || name == "ds" {
+            vec![None]
+        } else {
+            args.ks
+                .iter()
+                .flat_map(|&k| args.stalls.iter().map(move |&st| Some((k, st))))
+                .collect()
+        };
+        for variant in variants {
+            let config = match (name.as_str(), variant) {
+                ("aed", Some((k, stall))) => AlgorithmConfig::Aed(AedConfig {
+                    descent_iterations: k,
+                    stall_limit: stall,
+                    ..AedConfig::default()
+                }),
+                ("aers", Some((k, stall))) => AlgorithmConfig::Aers(AersConfig {
+                    descent_iterations: k,
+                    stall_limit: stall,
+                    ..AersConfig::default()
+                }),
+                ("rpls", _) => AlgorithmConfig::Rpls(RplsConfig::default()),
+                ("ds", _) => AlgorithmConfig::Ds(DsConfig::default()),
+                _ => {
+                    eprintln!("unknown algorithm {name}");
+                    std::process::exit(2);
+                }
+            };
+            let mut evals = Vec::new();
+            let mut cpu = Vec::new();
+            let mut cpu_all = 0.0;
+            let mut reached = 0;
+            for seed in 1..=args.seeds {
+                let r = run_trial(&objective, &config, seed, budget, args.target);
+                cpu_all += r.ended_at.cpu_seconds;
+                match r.reached_at {
+                    Some(at) => {
+                        reached += 1;
+                        evals.push(at.evaluations.total() as f64);
+                        cpu.push(at.cpu_seconds);
+                    }
+                    None => {
+                        if args.verbose {
+                            eprintln!(
+                                "censored: {name} seed {seed} best {:.5} at {:?} counters {:?}",
+                                r.best_rmse,
+                                objective.layout().decode(&r.best_x),
+                                r.counters
+                            );
+                        }
+                        evals.push(f64::INFINITY);
+                        cpu.push(f64::INFINITY);
+                    }
+                }
+            }
+            evals.sort_by(f64::total_cmp);
+            cpu.sort_by(f64::total_cmp);
+            println!(
+                "| {name} | {} | {} | {reached}/{} | {} | {} | {} | {} | {:.2} |",
+                variant.map_or("-".to_string(), |(k, _)| k.to_string()),
+                variant.map_or("-".to_string(), |(_, s)| s.to_string()),
+                args.seeds,
+                fmt_evals(quantile(&evals, 0.5)),
+                fmt_evals(quantile(&evals, 0.9)),
+                fmt_ms(quantile(&cpu, 0.5)),
+                fmt_ms(quantile(&cpu, 0.9)),
+                cpu_all * 1e3 / args.seeds as f64,
+            );
+        }
+    }
+}
+
+/// CPU-cutoff overshoot of trials that cannot reach their target.
+fn measure_overshoot(objective: &BrdfObjective, args: &Args) {
+    let budget = Budget {
+        cpu_seconds: Some(args.cutoff),
+        sample_evaluations: None,
+    };
+    println!("| algorithm | trials | cutoff s | median overshoot us | max overshoot us |");
+    println!("|---|---|---|---|---|");
+    for kind in ["aed", "aers", "rpls", "ds"] {
+        let config = AlgorithmConfig::default_for(kind).expect("known kind");
+        let mut over: Vec<f64> = (1..=args.seeds)
+            .map(|seed| {
+                let r = run_trial(objective, &config, seed, budget, 0.0);
+                r.ended_at.cpu_seconds - args.cutoff
+            })
+            .collect();
+        over.sort_by(f64::total_cmp);
+        println!(
+            "| {kind} | {} | {} | {:.1} | {:.1} |",
+            args.seeds,
+            args.cutoff,
+            quantile(&over, 0.5) * 1e6,
+            over[over.len() - 1] * 1e6
+        );
+    }
+}

@@ -1,0 +1,510 @@
+//! The trial context: the one place where evaluations are counted, budgets and the target are
+//! checked, and the best candidate and the anytime trace are kept (argmin's `Problem` wrapper and
+//! `Executor` in one).
+
+use crate::objective::{Objective, Rows};
+use crate::search::{Descent, DescentEnd, DescentLimits, Search, Stop};
+use crate::trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
+use crate::{AlgorithmConfig, SearchRng};
+use bounded_lm::{Options, Problem, SolveError, Solver};
+use cpu_time::ThreadTime;
+use rand::SeedableRng;
+use std::time::Instant;
+
+/// Read the CPU clock (about 0.4 us) only after this many sample-evaluations since the last read:
+/// a few tens of microseconds of model evaluation, so a trial overshoots a CPU cutoff by well
+/// under a millisecond while the clock costs under 2% on 25-row descents.
+const CLOCK_CHECK_ROWS: u64 = 4096;
+/// ... or after this many charged operations, whichever comes first (guards against work that is
+/// not proportional to rows, e.g. solver linear algebra on tiny subsamples).
+const CLOCK_CHECK_CALLS: u32 = 64;
+
+/// Which counter a charge goes to.
+#[derive(Clone, Copy)]
+enum Kind {
+    Residual,
+    Jacobian,
+    Rmse,
+}
+
+/// Counting, clocks and budget checks.
+struct Meter {
+    counts: EvalCounts,
+    budget: Budget,
+    cpu: ThreadTime,
+    wall: Instant,
+    rows_since_clock: u64,
+    calls_since_clock: u32,
+    stopped: Option<Stop>,
+}
+
+impl Meter {
+    fn new(budget: Budget) -> Self {
+        Self {
+            counts: EvalCounts::default(),
+            budget,
+            cpu: ThreadTime::now(),
+            wall: Instant::now(),
+            rows_since_clock: 0,
+            calls_since_clock: 0,
+            stopped: None,
+        }
+    }
+
+    /// Admits `rows` sample-evaluations of `kind` and counts them, or refuses (and remembers the
+    /// stop) when they would exceed the evaluation budget or the CPU time is spent. A trial
+    /// therefore never exceeds its evaluation budget.
+    fn charge(&mut self, kind: Kind, rows: usize) -> Result<(), Stop> {
+        if let Some(stop) = self.stopped {
+            return Err(stop);
+        }
+        let rows = rows as u64;
+        if let Some(limit) = self.budget.sample_evaluations
+            && self.counts.total() + rows > limit
+        {
+            return Err(self.stop(Stop::EvaluationBudget));
+        }
+        self.rows_since_clock += rows;
+        self.calls_since_clock += 1;
+        if self.rows_since_clock >= CLOCK_CHECK_ROWS || self.calls_since_clock >= CLOCK_CHECK_CALLS
+        {
+            self.check_clock()?;
+        }
+        match kind {
+            Kind::Residual => self.counts.residual_rows += rows,
+            Kind::Jacobian => self.counts.jacobian_rows += rows,
+            Kind::Rmse => self.counts.rmse_rows += rows,
+        }
+        Ok(())
+    }
+
+    /// Reads the CPU clock and stops if the cutoff is spent.
+    fn check_clock(&mut self) -> Result<(), Stop> {
+        self.rows_since_clock = 0;
+        self.calls_since_clock = 0;
+        if let Some(limit) = self.budget.cpu_seconds
+            && self.cpu.elapsed().as_secs_f64() >= limit
+        {
+            return Err(self.stop(Stop::CpuBudget));
+        }
+        Ok(())
+    }
+
+    fn stop(&mut self, stop: Stop) -> Stop {
+        self.stopped = Some(stop);
+        stop
+    }
+
+    fn stamp(&self) -> Stamp {
+        Stamp {
+            cpu_seconds: self.cpu.elapsed().as_secs_f64(),
+            wall_seconds: self.wall.elapsed().as_secs_f64(),
+            evaluations: self.counts,
+        }
+    }
+}
+
+/// The least-squares problem a descent sees: the objective over the selected rows, with every
+/// call charged to the meter. Once the budget is spent it reports failed evaluations so that
+/// the solver winds down at once.
+struct Fit<'a, O: Objective> {
+    objective: &'a O,
+    work: &'a mut O::Workspace,
+    meter: &'a mut Meter,
+    rows: usize,
+}
+
+impl<O: Objective> Problem for Fit<'_, O> {
+    fn residual_count(&self) -> usize {
+        self.rows
+    }
+    fn parameter_count(&self) -> usize {
+        self.objective.dim()
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        self.meter.charge(Kind::Residual, self.rows).is_ok()
+            && self.objective.residuals(self.work, x, r)
+    }
+    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool {
+        // One Jacobian row per sample, whatever the objective computes alongside (brdf-model
+        // recomputes the residuals with the Jacobian): the unit is "a row of J at a sample".
+        self.meter.charge(Kind::Jacobian, self.rows).is_ok()
+            && self.objective.jacobian(self.work, x, jac)
+    }
+}
+
+/// Names of the descent-outcome counters, by N2FB code.
+fn descent_counter(code: u8) -> &'static str {
+    match code {
+        3 => "descent_x_convergence",
+        4 => "descent_relative_function_convergence",
+        5 => "descent_both_convergence",
+        6 => "descent_absolute_function_convergence",
+        7 => "descent_singular_convergence",
+        8 => "descent_false_convergence",
+        9 => "descent_evaluation_limit",
+        10 => "descent_iteration_limit",
+        _ => "descent_start_not_evaluable",
+    }
+}
+
+/// Everything one trial owns: the objective's workspace, the seeded RNG, the solver, the clocks,
+/// the evaluation counts, the best candidate and the anytime trace. Implements [`Search`].
+pub struct TrialContext<'a, O: Objective> {
+    objective: &'a O,
+    work: O::Workspace,
+    rng: SearchRng,
+    solver: Solver,
+    options: Options,
+    meter: Meter,
+    target: f64,
+    reached_at: Option<Stamp>,
+    best_x: Vec<f64>,
+    best_rmse: f64,
+    trace: Vec<TracePoint>,
+    counters: Vec<(&'static str, u64)>,
+    /// The last candidate whose full-data RMSE is known, and that RMSE.
+    known_x: Vec<f64>,
+    known_rmse: Option<f64>,
+}
+
+impl<'a, O: Objective> TrialContext<'a, O> {
+    /// A context for one trial; starts the trial's CPU and wall clocks (call it on the thread
+    /// that runs the trial).
+    pub fn new(objective: &'a O, seed: u64, budget: Budget, target: f64) -> Self {
+        let dim = objective.dim();
+        Self {
+            objective,
+            work: objective.workspace(),
+            rng: SearchRng::seed_from_u64(seed),
+            solver: Solver::new(),
+            options: Options::default(),
+            meter: Meter::new(budget),
+            target,
+            reached_at: None,
+            best_x: Vec::with_capacity(dim),
+            best_rmse: f64::INFINITY,
+            trace: Vec::with_capacity(64),
+            counters: Vec::with_capacity(16),
+            known_x: vec![f64::NAN; dim],
+            known_rmse: None,
+        }
+    }
+
+    /// The evaluations counted so far.
+    pub fn counts(&self) -> EvalCounts {
+        self.meter.counts
+    }
+
+    /// Best full-data RMSE so far (`+inf` before the first evaluation).
+    pub fn best_rmse(&self) -> f64 {
+        self.best_rmse
+    }
+
+    /// Ends the trial: `end` is what the algorithm returned (`Ok` if it finished by itself).
+    pub fn finish(mut self, end: Result<(), Stop>) -> TrialResult {
+        let stop = match end {
+            Ok(()) => StopReason::Finished,
+            Err(s) => s.into(),
+        };
+        let ended_at = self.reached_at.unwrap_or_else(|| self.meter.stamp());
+        self.counters.sort_by_key(|&(name, _)| name);
+        TrialResult {
+            stop,
+            reached_at: self.reached_at,
+            ended_at,
+            best_rmse: self.best_rmse,
+            best_x: self.best_x,
+            trace: self.trace,
+            counters: self
+                .counters
+                .into_iter()
+                .map(|(name, value)| (name.to_string(), value))
+                .collect(),
+        }
+    }
+
+    /// Records `rmse` of `x` as a full-data evaluation: best candidate, trace, target.
+    fn record(&mut self, x: &[f64], rmse: f64) -> Result<f64, Stop> {
+        if rmse < self.best_rmse {
+            self.best_rmse = rmse;
+            self.best_x.clear();
+            self.best_x.extend_from_slice(x);
+            let at = self.meter.stamp();
+            self.trace.push(TracePoint { at, rmse });
+            if rmse <= self.target {
+                self.reached_at = Some(at);
+                return Err(self.meter.stop(Stop::Target));
+            }
+        }
+        Ok(rmse)
+    }
+
+    fn remember(&mut self, x: &[f64], rmse: f64) {
+        self.known_x.copy_from_slice(x);
+        self.known_rmse = Some(rmse);
+    }
+
+    fn is_known(&self, x: &[f64]) -> bool {
+        self.known_rmse.is_some()
+            && x.iter()
+                .zip(&self.known_x)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+}
+
+impl<O: Objective> Search for TrialContext<'_, O> {
+    fn dim(&self) -> usize {
+        self.objective.dim()
+    }
+    fn lower(&self) -> &[f64] {
+        self.objective.lower()
+    }
+    fn upper(&self) -> &[f64] {
+        self.objective.upper()
+    }
+    fn sample_count(&self) -> usize {
+        self.objective.sample_count()
+    }
+    fn rng(&mut self) -> &mut SearchRng {
+        &mut self.rng
+    }
+    fn random_pick(&mut self, x: &mut [f64]) {
+        self.objective.random_pick(&mut self.rng, x);
+    }
+    fn to_natural(&self, i: usize, x: f64) -> f64 {
+        self.objective.to_natural(i, x)
+    }
+    fn from_natural(&self, i: usize, v: f64) -> f64 {
+        self.objective.from_natural(i, v)
+    }
+
+    fn evaluate(&mut self, x: &[f64]) -> Result<f64, Stop> {
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        let rmse = match self.known_rmse {
+            Some(rmse) if self.is_known(x) => {
+                self.count("rmse_reused");
+                rmse
+            }
+            _ => {
+                self.meter
+                    .charge(Kind::Rmse, self.objective.sample_count())?;
+                let rmse = self.objective.rmse(&mut self.work, x);
+                self.remember(x, rmse);
+                rmse
+            }
+        };
+        self.record(x, rmse)
+    }
+
+    fn descend(
+        &mut self,
+        x: &mut [f64],
+        rows: Rows,
+        limits: DescentLimits,
+    ) -> Result<Descent, Stop> {
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        let n = self.objective.sample_count();
+        let rows = if rows.count(n) >= n { Rows::Full } else { rows };
+        let m = self.objective.select(&mut self.work, rows, &mut self.rng);
+        self.options.max_iterations = limits.iterations;
+        self.options.max_evaluations = limits.evaluations;
+        let mut fit = Fit {
+            objective: self.objective,
+            work: &mut self.work,
+            meter: &mut self.meter,
+            rows: m,
+        };
+        let lower = self.objective.lower();
+        let upper = self.objective.upper();
+        let result = self.solver.solve(&mut fit, x, lower, upper, &self.options);
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        let descent = match result {
+            Ok(report) => {
+                if rows == Rows::Full && report.f.is_finite() {
+                    // The solver's final f is 0.5 * sum r^2 over the full data at x: the
+                    // full-data RMSE comes for free.
+                    self.remember(x, (2.0 * report.f / n as f64).sqrt());
+                }
+                Descent {
+                    end: DescentEnd::Solver(report.outcome),
+                    iterations: report.iterations,
+                }
+            }
+            Err(error) => {
+                // Limits are validated by the configs and the box by the objective, so the only
+                // error a well-formed objective can produce is an unevaluable start.
+                debug_assert_eq!(error, SolveError::StartNotEvaluable);
+                Descent {
+                    end: DescentEnd::StartNotEvaluable,
+                    iterations: 0,
+                }
+            }
+        };
+        self.count("descents");
+        self.count(descent_counter(descent.code()));
+        Ok(descent)
+    }
+
+    fn count(&mut self, name: &'static str) {
+        match self.counters.iter_mut().find(|(n, _)| *n == name) {
+            Some((_, v)) => *v += 1,
+            None => self.counters.push((name, 1)),
+        }
+    }
+}
+
+/// Runs one trial of `algorithm` on `objective` from `seed` until the full-data RMSE reaches
+/// `target` or `budget` is spent, on the calling thread (never spawns threads; CPU time is the
+/// calling thread's clock, started here).
+///
+/// The configuration should have passed [`AlgorithmConfig::validate`]; an invalid one ends the
+/// trial at once with [`StopReason::Finished`], no evaluations and the counter
+/// `invalid_config`.
+pub fn run_trial<O: Objective>(
+    objective: &O,
+    algorithm: &AlgorithmConfig,
+    seed: u64,
+    budget: Budget,
+    target: f64,
+) -> TrialResult {
+    let mut context = TrialContext::new(objective, seed, budget, target);
+    if algorithm.validate().is_err() {
+        context.count("invalid_config");
+        return context.finish(Ok(()));
+    }
+    let end = algorithm.run(&mut context);
+    context.finish(end)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DsConfig;
+    use crate::objective::toy::Toy;
+
+    fn ds() -> AlgorithmConfig {
+        AlgorithmConfig::Ds(DsConfig::default())
+    }
+
+    /// A result with the clock readings zeroed, for bit-for-bit comparisons.
+    fn timeless(mut r: TrialResult) -> TrialResult {
+        fn zero(s: &mut Stamp) {
+            s.cpu_seconds = 0.0;
+            s.wall_seconds = 0.0;
+        }
+        zero(&mut r.ended_at);
+        if let Some(s) = r.reached_at.as_mut() {
+            zero(s);
+        }
+        for p in &mut r.trace {
+            zero(&mut p.at);
+        }
+        r
+    }
+
+    #[test]
+    fn ds_reaches_the_target_on_a_toy_fit() {
+        let toy = Toy::new(200, 0.0, 1);
+        let budget = Budget {
+            cpu_seconds: Some(10.0),
+            sample_evaluations: None,
+        };
+        let r = run_trial(&toy, &ds(), 7, budget, 1e-3);
+        assert_eq!(r.stop, StopReason::Target, "{r:?}");
+        assert!(r.best_rmse <= 1e-3);
+        assert_eq!(r.reached_at, Some(r.ended_at));
+        assert_eq!(r.first_reaching(1e-3), r.reached_at);
+        // Every DS evaluation is a full-data RMSE of 200 rows.
+        let c = r.ended_at.evaluations;
+        assert_eq!(c.residual_rows + c.jacobian_rows, 0);
+        assert_eq!(c.rmse_rows % 200, 0);
+    }
+
+    #[test]
+    fn same_seed_same_trial_different_seed_different_trial() {
+        let toy = Toy::new(100, 0.05, 2);
+        let budget = Budget {
+            cpu_seconds: None,
+            sample_evaluations: Some(200_000),
+        };
+        let a = timeless(run_trial(&toy, &ds(), 11, budget, 0.0));
+        let b = timeless(run_trial(&toy, &ds(), 11, budget, 0.0));
+        let c = timeless(run_trial(&toy, &ds(), 12, budget, 0.0));
+        assert_eq!(a, b);
+        assert_ne!(a.best_x, c.best_x);
+        assert_eq!(a.stop, StopReason::EvaluationBudget);
+    }
+
+    #[test]
+    fn evaluation_budget_is_never_exceeded_and_trace_is_monotone() {
+        let toy = Toy::new(100, 0.05, 3);
+        let budget = Budget {
+            cpu_seconds: None,
+            sample_evaluations: Some(123_456),
+        };
+        let r = run_trial(&toy, &ds(), 5, budget, 0.0);
+        assert_eq!(r.stop, StopReason::EvaluationBudget);
+        let total = r.ended_at.evaluations.total();
+        assert!(total <= 123_456 && total > 123_456 - 100, "{total}");
+        assert!(r.reached_at.is_none());
+        assert!(!r.trace.is_empty());
+        for w in r.trace.windows(2) {
+            assert!(w[1].rmse < w[0].rmse);
+            assert!(w[1].at.evaluations.total() >= w[0].at.evaluations.total());
+            assert!(w[1].at.cpu_seconds >= w[0].at.cpu_seconds);
+        }
+        assert_eq!(r.trace.last().map(|p| p.rmse), Some(r.best_rmse));
+    }
+
+    #[test]
+    fn cpu_budget_stops_promptly() {
+        let toy = Toy::new(2000, 0.05, 4);
+        let cutoff = 0.05;
+        let budget = Budget {
+            cpu_seconds: Some(cutoff),
+            sample_evaluations: None,
+        };
+        let r = run_trial(&toy, &ds(), 9, budget, 0.0);
+        assert_eq!(r.stop, StopReason::CpuBudget);
+        let overshoot = r.ended_at.cpu_seconds - cutoff;
+        // One clock-check interval is a few thousand rows: well under a millisecond even at
+        // opt-level 1; allow 5 ms for a loaded machine.
+        assert!((0.0..0.005).contains(&overshoot), "overshoot {overshoot} s");
+    }
+
+    #[test]
+    fn unchanged_candidates_are_not_re_evaluated() {
+        let toy = Toy::new(50, 0.0, 5);
+        let mut ctx = TrialContext::new(&toy, 1, Budget::default(), 0.0);
+        let x = [1.0, 1.0, 0.0];
+        let a = ctx.evaluate(&x).unwrap();
+        let b = ctx.evaluate(&x).unwrap();
+        assert_eq!(a.to_bits(), b.to_bits());
+        assert_eq!(ctx.counts().rmse_rows, 50);
+        ctx.evaluate(&[1.0, 1.0, 0.1]).unwrap();
+        assert_eq!(ctx.counts().rmse_rows, 100);
+        let r = ctx.finish(Ok(()));
+        assert_eq!(r.stop, StopReason::Finished);
+        assert!(r.counters.contains(&("rmse_reused".to_string(), 1)));
+    }
+
+    #[test]
+    fn invalid_configuration_ends_the_trial_at_once() {
+        let toy = Toy::new(50, 0.0, 5);
+        let bad = AlgorithmConfig::Ds(DsConfig {
+            rtol: -1.0,
+            ..DsConfig::default()
+        });
+        assert_eq!(bad.validate().unwrap_err().field, "rtol");
+        let r = run_trial(&toy, &bad, 1, Budget::default(), 0.0);
+        assert_eq!(r.stop, StopReason::Finished);
+        assert_eq!(r.ended_at.evaluations.total(), 0);
+    }
+}

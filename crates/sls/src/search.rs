@@ -1,0 +1,132 @@
+//! What an algorithm may do during a trial: the [`Search`] trait.
+//!
+//! Algorithms are written against this trait rather than against [`crate::TrialContext`]
+//! directly, so their control logic can be tested with a scripted fake (see the AED tests).
+//! Everything that costs sample-evaluations goes through it, so counting, budgets, the best
+//! candidate and the anytime trace live in one place.
+
+use crate::{Rows, SearchRng, StopReason};
+use bounded_lm::Outcome;
+
+/// Why an algorithm must stop at once. Methods of [`Search`] return it as an error, so an
+/// algorithm unwinds with `?`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// A full-data RMSE at or below the target was found.
+    Target,
+    /// The CPU-time budget is spent.
+    CpuBudget,
+    /// The sample-evaluation budget is spent.
+    EvaluationBudget,
+}
+
+impl From<Stop> for StopReason {
+    fn from(s: Stop) -> Self {
+        match s {
+            Stop::Target => StopReason::Target,
+            Stop::CpuBudget => StopReason::CpuBudget,
+            Stop::EvaluationBudget => StopReason::EvaluationBudget,
+        }
+    }
+}
+
+/// Limits of one descent (the solver's MXITER and MXFCAL).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DescentLimits {
+    /// Iteration limit; reaching it ends the descent with [`Outcome::IterationLimit`].
+    pub iterations: usize,
+    /// Residual-evaluation limit; reaching it ends the descent with
+    /// [`Outcome::EvaluationLimit`].
+    pub evaluations: usize,
+}
+
+impl Default for DescentLimits {
+    /// PORT's defaults: 150 iterations, 200 residual evaluations.
+    fn default() -> Self {
+        Self {
+            iterations: 150,
+            evaluations: 200,
+        }
+    }
+}
+
+/// How a descent ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DescentEnd {
+    /// The solver ran and returned this outcome (N2FB codes 3 to 10).
+    Solver(Outcome),
+    /// The residuals or the Jacobian could not be computed at the start (N2FB code 63/65),
+    /// typically a random pick whose `d^n` overflows; the candidate is unchanged.
+    StartNotEvaluable,
+}
+
+/// Result of [`Search::descend`]; the solution itself is written into the caller's `x`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Descent {
+    /// How the descent ended.
+    pub end: DescentEnd,
+    /// Solver iterations made.
+    pub iterations: usize,
+}
+
+impl Descent {
+    /// Whether the descent stopped on its iteration limit: what AED reads as "promising".
+    pub fn hit_iteration_limit(&self) -> bool {
+        self.end == DescentEnd::Solver(Outcome::IterationLimit)
+    }
+
+    /// A compact code for counters: N2FB's return code, 63 for an unevaluable start.
+    pub fn code(&self) -> u8 {
+        match self.end {
+            DescentEnd::Solver(o) => o.code(),
+            DescentEnd::StartNotEvaluable => 63,
+        }
+    }
+}
+
+/// The operations a search algorithm uses during one trial.
+///
+/// [`crate::TrialContext`] is the real implementation; it counts every sample-evaluation,
+/// checks the target and the budget, and records the best candidate and the anytime trace.
+pub trait Search {
+    /// Number of free parameters.
+    fn dim(&self) -> usize;
+    /// Lower bounds of the box.
+    fn lower(&self) -> &[f64];
+    /// Upper bounds of the box.
+    fn upper(&self) -> &[f64];
+    /// Size of the full data set.
+    fn sample_count(&self) -> usize;
+    /// The trial's random number generator (seeded from the trial seed).
+    fn rng(&mut self) -> &mut SearchRng;
+    /// The paper's `RandomPick`: a uniform candidate in the box (optimiser coordinates).
+    fn random_pick(&mut self, x: &mut [f64]);
+    /// Full-data RMSE of `x` (`+inf` when unevaluable). Recomputed only when `x` differs from
+    /// the last candidate evaluated (or descended to on the full data set). Fails with
+    /// [`Stop::Target`] when the RMSE reaches the target, or with a budget stop.
+    fn evaluate(&mut self, x: &[f64]) -> Result<f64, Stop>;
+    /// Bounded least-squares descent (the paper's N2FB) from `x` over `rows`, drawing a fresh
+    /// subsample if asked; `x` receives the solution (unchanged when the start is unevaluable).
+    /// Fails with a budget stop, which may interrupt the descent.
+    fn descend(
+        &mut self,
+        x: &mut [f64],
+        rows: Rows,
+        limits: DescentLimits,
+    ) -> Result<Descent, Stop>;
+    /// Adds one to the algorithm-specific counter `name` (reported in
+    /// [`crate::TrialResult::counters`]).
+    fn count(&mut self, name: &'static str);
+    /// Coordinate `i` of a candidate in the problem's natural units (e.g. the exponent `n` when
+    /// the optimiser holds `ln(1 + n)`): the identity unless the objective reparameterises.
+    /// Monotone increasing; used by SA's paper-style perturbation.
+    fn to_natural(&self, i: usize, x: f64) -> f64 {
+        let _ = i;
+        x
+    }
+    /// Inverse of [`Search::to_natural`].
+    fn from_natural(&self, i: usize, v: f64) -> f64 {
+        let _ = i;
+        v
+    }
+}

@@ -1,0 +1,132 @@
+//! Trials of every algorithm on small BRDF instances (brdf-model's synthetic data).
+
+use brdf_model::{Layout, LobeKind, named_params, synthetic};
+use sls::{
+    AedConfig, AersConfig, AlgorithmConfig, BrdfObjective, Budget, DsConfig, RplsConfig, Stamp,
+    StopReason, TrialResult, run_trial,
+};
+use std::sync::Arc;
+
+/// The tuning BRDF (Table 2) sampled `n` times with noise `sigma`.
+fn tuning(n: usize, sigma: f64, seed: u64) -> BrdfObjective {
+    let data = synthetic(&named_params("tuning").unwrap(), n, sigma, seed);
+    let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
+    BrdfObjective::new(Arc::new(data), layout)
+}
+
+fn all_algorithms() -> Vec<AlgorithmConfig> {
+    vec![
+        AlgorithmConfig::Aed(AedConfig::default()),
+        AlgorithmConfig::Aers(AersConfig::default()),
+        AlgorithmConfig::Rpls(RplsConfig::default()),
+        AlgorithmConfig::Ds(DsConfig::default()),
+    ]
+}
+
+fn cpu(seconds: f64) -> Budget {
+    Budget {
+        cpu_seconds: Some(seconds),
+        sample_evaluations: None,
+    }
+}
+
+/// The result with every clock reading zeroed.
+fn timeless(mut r: TrialResult) -> TrialResult {
+    fn zero(s: &mut Stamp) {
+        s.cpu_seconds = 0.0;
+        s.wall_seconds = 0.0;
+    }
+    zero(&mut r.ended_at);
+    if let Some(s) = r.reached_at.as_mut() {
+        zero(s);
+    }
+    r.trace.iter_mut().for_each(|p| zero(&mut p.at));
+    r
+}
+
+#[test]
+fn every_algorithm_reaches_the_target_on_an_easy_instance() {
+    let objective = tuning(300, 0.0, 1);
+    for config in all_algorithms() {
+        for seed in 1..=3 {
+            let r = run_trial(&objective, &config, seed, cpu(20.0), 0.01);
+            assert_eq!(
+                r.stop,
+                StopReason::Target,
+                "{} seed {seed}: {r:?}",
+                config.kind_name()
+            );
+            assert!(r.best_rmse <= 0.01);
+            let p = objective.layout().decode(&r.best_x);
+            assert!((p.kd - 0.15).abs() < 0.02, "{}: {p:?}", config.kind_name());
+        }
+    }
+}
+
+#[test]
+fn trials_are_reproducible_and_seeds_differ() {
+    let objective = tuning(500, 0.1, 2);
+    let budget = Budget {
+        cpu_seconds: None,
+        sample_evaluations: Some(300_000),
+    };
+    for config in all_algorithms() {
+        let a = timeless(run_trial(&objective, &config, 3, budget, 0.0));
+        let b = timeless(run_trial(&objective, &config, 3, budget, 0.0));
+        let c = timeless(run_trial(&objective, &config, 4, budget, 0.0));
+        assert_eq!(a, b, "{}", config.kind_name());
+        assert_ne!(a.trace, c.trace, "{}", config.kind_name());
+        assert_eq!(a.stop, StopReason::EvaluationBudget);
+        assert!(a.ended_at.evaluations.total() <= 300_000);
+    }
+}
+
+#[test]
+fn impossible_target_stops_on_the_cpu_cutoff_promptly() {
+    let objective = tuning(2000, 0.1, 3);
+    let cutoff = 0.1;
+    for config in all_algorithms() {
+        let r = run_trial(&objective, &config, 1, cpu(cutoff), 0.0);
+        assert_eq!(r.stop, StopReason::CpuBudget, "{}", config.kind_name());
+        let overshoot = r.ended_at.cpu_seconds - cutoff;
+        assert!(
+            (0.0..0.01).contains(&overshoot),
+            "{}: overshoot {overshoot} s",
+            config.kind_name()
+        );
+        // The trace is strictly improving and ends at the best RMSE.
+        assert!(
+            r.trace.windows(2).all(|w| w[1].rmse < w[0].rmse
+                && w[1].at.evaluations.total() >= w[0].at.evaluations.total())
+        );
+        assert_eq!(r.trace.last().map(|p| p.rmse), Some(r.best_rmse));
+    }
+}
+
+#[test]
+fn configurations_deserialise_with_defaults_and_reject_unknown_fields() {
+    let c: AlgorithmConfig = serde_json::from_str(r#"{"kind": "aed", "phi": 2.0}"#).unwrap();
+    assert_eq!(
+        c,
+        AlgorithmConfig::Aed(AedConfig {
+            phi: 2.0,
+            ..AedConfig::default()
+        })
+    );
+    let c: AlgorithmConfig = serde_json::from_str(r#"{"kind": "ds"}"#).unwrap();
+    assert_eq!(c, AlgorithmConfig::Ds(DsConfig::default()));
+    assert!(serde_json::from_str::<AlgorithmConfig>(r#"{"kind": "aed", "rho": 3}"#).is_err());
+    assert!(serde_json::from_str::<AlgorithmConfig>(r#"{"kind": "nope"}"#).is_err());
+    for config in all_algorithms() {
+        let json = serde_json::to_string(&config).unwrap();
+        assert_eq!(
+            serde_json::from_str::<AlgorithmConfig>(&json).unwrap(),
+            config
+        );
+        assert_eq!(
+            AlgorithmConfig::default_for(config.kind_name()),
+            Some(config.clone())
+        );
+        assert!(config.validate().is_ok());
+    }
+}
