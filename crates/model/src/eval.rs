@@ -246,8 +246,8 @@ impl Evaluator {
         #[cfg(target_arch = "x86_64")]
         match self.level {
             // SAFETY: a level is only selected when the CPU reports its features.
-            SimdLevel::Avx512 => return unsafe { avx2::residuals512(coefs, kd, data, r) },
-            SimdLevel::Avx2 => return unsafe { avx2::residuals(coefs, kd, data, r) },
+            SimdLevel::Avx512 => return unsafe { simd::residuals512(coefs, kd, data, r) },
+            SimdLevel::Avx2 => return unsafe { simd::residuals(coefs, kd, data, r) },
             SimdLevel::Portable => {}
         }
         residuals_impl::<Plain, GENERIC>(coefs, kd, data, r)
@@ -289,10 +289,10 @@ impl Evaluator {
         match self.level {
             // SAFETY: a level is only selected when the CPU reports its features.
             SimdLevel::Avx512 => {
-                return unsafe { avx2::jacobian512(&w, r, jac, &mut self.g, &mut self.h) };
+                return unsafe { simd::jacobian512(&w, r, jac, &mut self.g, &mut self.h) };
             }
             SimdLevel::Avx2 => {
-                return unsafe { avx2::jacobian(&w, r, jac, &mut self.g, &mut self.h) };
+                return unsafe { simd::jacobian(&w, r, jac, &mut self.g, &mut self.h) };
             }
             SimdLevel::Portable => {}
         }
@@ -616,8 +616,9 @@ fn jacobian_impl<A: MulAdd, const K: u8>(
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
-    //! The same loops compiled with AVX2 and FMA enabled.
+mod simd {
+    //! The same loops compiled with AVX2 and FMA (and, for the `*512` entry points, AVX-512F
+    //! with the hand-written lobe kernels of `crate::avx512`).
     use super::*;
     use crate::fastmath::Fused;
 

@@ -3,8 +3,9 @@
 //! Only adds, multiplies, one division, comparisons/selects and integer bit operations that
 //! AVX2 has (64-bit add/sub/shift/and/or): no libm calls and no float<->int conversions (those
 //! are done with the 1.5*2^52 "magic number" trick), so LLVM can vectorise a loop over a
-//! slice. The evaluator compiles these loops twice: once with `avx2,fma` enabled and once for
-//! the baseline target, and picks one at run time.
+//! slice. The evaluator compiles these loops twice: once with `avx2,fma` enabled (using
+//! [`Fused`]) and once for the baseline target (using [`Plain`]), and picks one at run time;
+//! CPUs with AVX-512F use the intrinsics kernels of `crate::avx512` instead.
 //!
 //! Accuracy: `ln` follows fdlibm's `__ieee754_log` (< 1 ulp); `exp` uses a degree-11 Taylor
 //! polynomial on `|r| <= ln2/2` (truncation error < 7e-15 relative) and exact scaling by

@@ -17,7 +17,8 @@
 //! # Modules
 //! - [`params`]: physical parameters ([`BrdfParams`], [`Lobe`]) and [`named_params`].
 //! - [`layout`]: [`Layout`] (free/fixed parameters, bounds, exponent coordinate).
-//! - [`eval`]: [`Evaluator`] (residuals, Jacobian, sum of squares, RMSE).
+//! - [`eval`]: [`Evaluator`] (residuals, Jacobian, sum of squares, RMSE), with SIMD copies of
+//!   its loops chosen at run time ([`SimdLevel`]); pan Jacobian columns are per degree.
 //! - [`data`]: [`DataSet`], [`synthetic`], [`Filters`], [`FilterReport`], [`Subsampler`].
 //! - [`io`]: Cornell, CSV and MERL readers (formats documented there).
 
