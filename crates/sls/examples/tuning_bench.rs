@@ -4,10 +4,12 @@
 //! ```text
 //! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
-//!     [--raw-exponent] [--overshoot]
+//!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1]
 //! ```
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
-//! stall limit (0: off, as in the paper). Trials run one after the
+//! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
+//! their defaults, `asa-paper` with the paper's tuned ASA values, and `sa-opt`, `sals-opt`,
+//! `avg-opt` with SA perturbations in the optimiser's coordinates. Trials run one after the
 //! other on one thread (trial seeds 1..=seeds). Censored trials (cutoff reached) count as +inf in
 //! the percentiles.
 
@@ -29,6 +31,8 @@ struct Args {
     verbose: bool,
     overshoot: bool,
     raw_exponent: bool,
+    instance: String,
+    sigma: f64,
 }
 
 fn parse() -> Result<Args, String> {
@@ -43,6 +47,8 @@ fn parse() -> Result<Args, String> {
         verbose: false,
         overshoot: false,
         raw_exponent: false,
+        instance: "tuning".into(),
+        sigma: 0.1,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -65,6 +71,8 @@ fn parse() -> Result<Args, String> {
             "--cutoff" => a.cutoff = value.parse().map_err(|e| bad(&e))?,
             "--instance-seed" => a.instance_seed = value.parse().map_err(|e| bad(&e))?,
             "--target" => a.target = value.parse().map_err(|e| bad(&e))?,
+            "--sigma" => a.sigma = value.parse().map_err(|e| bad(&e))?,
+            "--instance" => a.instance = value.clone(),
             "--algorithms" => a.algorithms = value.split(',').map(String::from).collect(),
             "--k" => {
                 a.ks = value
@@ -114,14 +122,18 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let truth = named_params("tuning").expect("tuning is a named BRDF");
-    let data = Arc::new(synthetic(&truth, 10000, 0.1, args.instance_seed));
+    let Some(truth) = named_params(&args.instance) else {
+        eprintln!("unknown BRDF {}", args.instance);
+        std::process::exit(2);
+    };
+    let data = Arc::new(synthetic(&truth, 10000, args.sigma, args.instance_seed));
+    let kinds = vec![LobeKind::Anisotropic; truth.lobes.len()];
     let coord = if args.raw_exponent {
         ExponentCoord::Raw
     } else {
         ExponentCoord::Log1p
     };
-    let layout = Layout::builder(&[LobeKind::Anisotropic])
+    let layout = Layout::builder(&kinds)
         .exponent_coord(coord)
         .build()
         .expect("default layout");
@@ -135,9 +147,11 @@ fn main() {
     let descent = ctx.descend(&mut x, Rows::Full, DescentLimits::default());
     let rmse_opt = ctx.evaluate(&x).unwrap_or(f64::NAN);
     println!(
-        "instance: tuning, 10000 samples, sigma 0.1, instance seed {}, exponent coordinate \
+        "instance: {}, 10000 samples, sigma {}, instance seed {}, exponent coordinate \
          {coord:?}; RMSE at the true parameters {rmse_true:.6}; after a full-data descent from \
          them {rmse_opt:.6} ({:?}); target {}",
+        args.instance,
+        args.sigma,
         args.instance_seed,
         descent.map(|d| d.end),
         args.target
@@ -158,7 +172,7 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     for name in &args.algorithms {
-        let variants: Vec<Option<(usize, usize)>> = if name == "rpls" || name == "ds" {
+        let variants: Vec<Option<(usize, usize)>> = if name != "aed" && name != "aers" {
             vec![None]
         } else {
             args.ks
@@ -180,6 +194,30 @@ fn main() {
                 }),
                 ("rpls", _) => AlgorithmConfig::Rpls(RplsConfig::default()),
                 ("ds", _) => AlgorithmConfig::Ds(DsConfig::default()),
+                // The annealing kinds with their defaults; `asa-paper`: the paper's tuned ASA;
+                // `*-opt`: SA perturbations scaled in the optimiser's coordinates.
+                ("asa-paper", _) => AlgorithmConfig::Asa(sls::AsaConfig::paper_tuned()),
+                (kind, _) if kind.ends_with("-opt") => {
+                    match AlgorithmConfig::default_for(kind.trim_end_matches("-opt")) {
+                        Some(AlgorithmConfig::Sa(c)) => AlgorithmConfig::Sa(opt(c)),
+                        Some(AlgorithmConfig::Avg(mut c)) => {
+                            c.sa = opt(c.sa);
+                            AlgorithmConfig::Avg(c)
+                        }
+                        Some(AlgorithmConfig::Sals(mut c)) => {
+                            c.first = opt(c.first);
+                            c.later = opt(c.later);
+                            AlgorithmConfig::Sals(c)
+                        }
+                        _ => {
+                            eprintln!("unknown algorithm {name}");
+                            std::process::exit(2);
+                        }
+                    }
+                }
+                (kind @ ("sa" | "sals" | "avg" | "asa"), _) => {
+                    AlgorithmConfig::default_for(kind).expect("annealing kinds have defaults")
+                }
                 _ => {
                     eprintln!("unknown algorithm {name}");
                     std::process::exit(2);
@@ -253,5 +291,13 @@ fn measure_overshoot(objective: &BrdfObjective, args: &Args) {
             quantile(&over, 0.5) * 1e6,
             over[over.len() - 1] * 1e6
         );
+    }
+}
+
+/// An SA schedule with the perturbation scaled in the optimiser's coordinates.
+fn opt(c: sls::SaConfig) -> sls::SaConfig {
+    sls::SaConfig {
+        perturbation: sls::Perturbation::Optimiser,
+        ..c
     }
 }

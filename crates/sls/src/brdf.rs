@@ -104,7 +104,7 @@ impl Objective for BrdfObjective {
     }
 
     /// The exponent's physical `n`; every other coordinate is its own natural value.
-    fn to_natural(&self, i: usize, x: f64) -> f64 {
+    fn natural_value(&self, i: usize, x: f64) -> f64 {
         if self.layout.is_exponent(i) {
             self.layout.exponent_coord().to_physical(x)
         } else {
@@ -112,7 +112,7 @@ impl Objective for BrdfObjective {
         }
     }
 
-    fn from_natural(&self, i: usize, v: f64) -> f64 {
+    fn optimiser_value(&self, i: usize, v: f64) -> f64 {
         if self.layout.is_exponent(i) {
             self.layout.exponent_coord().to_internal(v)
         } else {

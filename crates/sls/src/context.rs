@@ -166,6 +166,8 @@ pub struct TrialContext<'a, O: Objective> {
     /// The last candidate whose full-data RMSE is known, and that RMSE.
     known_x: Vec<f64>,
     known_rmse: Option<f64>,
+    /// Residuals of [`Search::evaluate_subsample`] (grown once, then reused).
+    subsample_residuals: Vec<f64>,
 }
 
 impl<'a, O: Objective> TrialContext<'a, O> {
@@ -188,6 +190,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
             counters: Vec::with_capacity(16),
             known_x: vec![f64::NAN; dim],
             known_rmse: None,
+            subsample_residuals: Vec::new(),
         }
     }
 
@@ -272,11 +275,39 @@ impl<O: Objective> Search for TrialContext<'_, O> {
     fn random_pick(&mut self, x: &mut [f64]) {
         self.objective.random_pick(&mut self.rng, x);
     }
-    fn to_natural(&self, i: usize, x: f64) -> f64 {
-        self.objective.to_natural(i, x)
+    fn natural_value(&self, i: usize, x: f64) -> f64 {
+        self.objective.natural_value(i, x)
     }
-    fn from_natural(&self, i: usize, v: f64) -> f64 {
-        self.objective.from_natural(i, v)
+    fn optimiser_value(&self, i: usize, v: f64) -> f64 {
+        self.objective.optimiser_value(i, v)
+    }
+    fn evaluate_subsample(&mut self, x: &[f64], k: usize) -> Result<f64, Stop> {
+        let n = self.objective.sample_count();
+        if k >= n {
+            return self.evaluate(x);
+        }
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        self.meter.charge(Kind::Rmse, k)?;
+        let m = self
+            .objective
+            .select(&mut self.work, Rows::Subsample(k), &mut self.rng);
+        if self.subsample_residuals.len() < m {
+            self.subsample_residuals.resize(m, 0.0);
+        }
+        let r = &mut self.subsample_residuals[..m];
+        if !self.objective.residuals(&mut self.work, x, r) {
+            return Ok(f64::INFINITY);
+        }
+        let sum: f64 = r.iter().map(|v| v * v).sum();
+        let rmse = (sum / m as f64).sqrt();
+        // Overflow and NaN alike mean "unevaluable", as for the full-data RMSE.
+        Ok(if rmse.is_finite() {
+            rmse
+        } else {
+            f64::INFINITY
+        })
     }
 
     fn evaluate(&mut self, x: &[f64]) -> Result<f64, Stop> {

@@ -100,13 +100,13 @@ pub trait Objective: Sync {
 
     /// Coordinate `i` in the problem's natural units (monotone increasing in `x`); the identity
     /// unless the implementation reparameterises (brdf-model's `ln(1 + n)` exponent).
-    fn to_natural(&self, i: usize, x: f64) -> f64 {
+    fn natural_value(&self, i: usize, x: f64) -> f64 {
         let _ = i;
         x
     }
 
-    /// Inverse of [`Objective::to_natural`].
-    fn from_natural(&self, i: usize, v: f64) -> f64 {
+    /// Inverse of [`Objective::natural_value`].
+    fn optimiser_value(&self, i: usize, v: f64) -> f64 {
         let _ = i;
         v
     }

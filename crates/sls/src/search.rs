@@ -120,13 +120,21 @@ pub trait Search {
     /// Coordinate `i` of a candidate in the problem's natural units (e.g. the exponent `n` when
     /// the optimiser holds `ln(1 + n)`): the identity unless the objective reparameterises.
     /// Monotone increasing; used by SA's paper-style perturbation.
-    fn to_natural(&self, i: usize, x: f64) -> f64 {
+    fn natural_value(&self, i: usize, x: f64) -> f64 {
         let _ = i;
         x
     }
-    /// Inverse of [`Search::to_natural`].
-    fn from_natural(&self, i: usize, v: f64) -> f64 {
+    /// Inverse of [`Search::natural_value`].
+    fn optimiser_value(&self, i: usize, v: f64) -> f64 {
         let _ = i;
         v
+    }
+    /// RMSE of `x` over a fresh random subsample of `k` samples (`+inf` if unevaluable),
+    /// charged as `k` RMSE rows. It neither updates the best candidate and the trace nor tests
+    /// the target (only full-data RMSEs do); `k` at or above the data size is
+    /// [`Search::evaluate`]. Used by SA steps with `sample_size > 0`.
+    fn evaluate_subsample(&mut self, x: &[f64], k: usize) -> Result<f64, Stop> {
+        let _ = k;
+        self.evaluate(x)
     }
 }

@@ -2,8 +2,8 @@
 
 use brdf_model::{Layout, LobeKind, named_params, synthetic};
 use sls::{
-    AedConfig, AersConfig, AlgorithmConfig, BrdfObjective, Budget, DsConfig, RplsConfig, Stamp,
-    StopReason, TrialResult, run_trial,
+    AedConfig, AersConfig, AlgorithmConfig, AsaConfig, AvgConfig, BrdfObjective, Budget, DsConfig,
+    RplsConfig, SalsConfig, Stamp, StopReason, TrialResult, run_trial,
 };
 use std::sync::Arc;
 
@@ -20,6 +20,11 @@ fn all_algorithms() -> Vec<AlgorithmConfig> {
         AlgorithmConfig::Aers(AersConfig::default()),
         AlgorithmConfig::Rpls(RplsConfig::default()),
         AlgorithmConfig::Ds(DsConfig::default()),
+        // The standalone SA (kind "sa") cannot reach the target with the paper's defaults; it is
+        // covered by tests/anneal_trials.rs.
+        AlgorithmConfig::Sals(SalsConfig::default()),
+        AlgorithmConfig::Avg(AvgConfig::default()),
+        AlgorithmConfig::Asa(AsaConfig::default()),
     ]
 }
 

@@ -2,7 +2,7 @@
 //! the full-data RMSE, restarted from a random pick whenever it exits.
 //!
 //! References: L. Ingber, "Adaptive simulated annealing (ASA): Lessons learned", Control and
-//! Cybernetics 25(1), 33-54, 1996 (the paper's [3]); ASA-README (sections "Generating
+//! Cybernetics 25(1), 33-54, 1996 (the paper's reference 3); ASA-README (sections "Generating
 //! Probability Density Function", "Acceptance Probability Density Function", "Reannealing
 //! Temperature Schedule", and the OPTIONS `Temperature_Ratio_Scale`,
 //! `Temperature_Anneal_Scale`, `Cost_Parameter_Scale_Ratio`, `Acceptance_Frequency_Modulus`,
@@ -18,7 +18,7 @@
 //! temperatures      T_i = T_0i exp(-c_i k_i^(1/D))        (k_i: generations, from 1)
 //!                   T_cost = T_0cost exp(-c_cost k_cost^(1/D))   (k_cost: acceptances, from 0)
 //!                   T_0i = Initial_Parameter_Temperature (1); T_0cost = mean |f| over
-//!                   Number_Cost_Samples (5) states generated from the start (2.718 if ~0)
+//!                   Number_Cost_Samples (5) states generated from the start (e if ~0)
 //! generating        u ~ U[0,1); y_i = sgn(u - 1/2) T_i [(1 + 1/T_i)^|2u - 1| - 1]
 //!                   x_i' = x_i + y_i (B_i - A_i), redrawn until A_i + eps <= x_i' <= B_i - eps
 //! acceptance        accept if min(1, exp(-(f' - f) / (T_cost + eps))) >= u', u' ~ U[0,1)
@@ -48,6 +48,9 @@
 //! - The cost is the full-data RMSE ([`Search::evaluate`]); the paper does not say whether it
 //!   gave ASA the RMSE or the sum of squares. An unevaluable candidate (`+inf`) is ASA's
 //!   "invalid state" and is regenerated (it still costs its RMSE rows).
+//! - ASA works in the optimiser's coordinates (the box [`Search`] gives: with brdf-model's
+//!   default layout the exponent is `ln(1 + n)`), so its generating ranges and relative
+//!   tangent steps apply to `ln(1 + n)`; the paper's ASA presumably saw `n` itself.
 //! - The start is a random pick (ASA would generate its first state from the user's initial
 //!   parameters at the initial temperature); when ASA exits the trial restarts ASA from a new
 //!   random pick (the paper does not say what it did; its cutoff was a CPU time).
@@ -168,7 +171,10 @@ impl AsaConfig {
                 ))
             }
         };
-        positive("cost_parameter_scale_ratio", self.cost_parameter_scale_ratio)?;
+        positive(
+            "cost_parameter_scale_ratio",
+            self.cost_parameter_scale_ratio,
+        )?;
         check_at_least(
             "asa",
             "temperature_anneal_scale",
@@ -254,7 +260,11 @@ pub fn reanneal_cost(
     f_best: f64,
     f_last: f64,
 ) -> (f64, f64) {
-    let reset = f_last.abs().max(f_best.abs()).max((f_best - f_last).abs()).max(EPS);
+    let reset = f_last
+        .abs()
+        .max(f_best.abs())
+        .max((f_best - f_last).abs())
+        .max(EPS);
     let t0 = t0.min(reset);
     let target = (f_last - f_best).abs().max(t_current).max(EPS).min(t0);
     if t_current > target {
@@ -418,7 +428,8 @@ fn run_once<S: Search>(config: &AsaConfig, search: &mut S, st: &mut State) -> Re
     }
     let mut t0_cost = sum / config.number_cost_samples as f64;
     if t0_cost.abs() <= 1e-18 {
-        t0_cost = 2.718;
+        // ASA's literal 2.718.
+        t0_cost = std::f64::consts::E;
     }
     if !f_last.is_finite() {
         // ASA generates its first state until a valid one: here from the random pick.
@@ -519,8 +530,8 @@ fn run_once<S: Search>(config: &AsaConfig, search: &mut S, st: &mut State) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::algorithms::sa::tests::Bowl;
     use crate::SearchRng;
+    use crate::algorithms::sa::tests::Bowl;
     use rand::SeedableRng;
 
     #[test]
@@ -535,10 +546,16 @@ mod tests {
             let positive = ys.iter().filter(|&&y| y > 0.0).count() as f64 / n as f64;
             assert!((positive - 0.5).abs() < 0.02, "{positive}");
             ys.iter_mut().for_each(|y| *y = y.abs());
-            for a in [t / 10.0, t, 10.0 * t, 0.5].into_iter().filter(|&a| a <= 1.0) {
+            for a in [t / 10.0, t, 10.0 * t, 0.5]
+                .into_iter()
+                .filter(|&a| a <= 1.0)
+            {
                 let empirical = ys.iter().filter(|&&y| y <= a).count() as f64 / n as f64;
                 let cdf = (1.0 + a / t).ln() / (1.0 + 1.0 / t).ln();
-                assert!((empirical - cdf).abs() < 0.02, "t {t} a {a}: {empirical} vs {cdf}");
+                assert!(
+                    (empirical - cdf).abs() < 0.02,
+                    "t {t} a {a}: {empirical} vs {cdf}"
+                );
             }
         }
         assert_eq!(generating_step(0.5, 0.1), 0.0);
@@ -595,9 +612,16 @@ mod tests {
         let (k, t0) = reanneal_parameter(t, 1.0, c, d, 0.08, 8.0).unwrap();
         assert!(k < k_old);
         let t_new = temperature(t0, c, k, d);
-        assert!((t_new / (100.0 * t) - 1.0).abs() < 0.05, "{t_new} vs {}", 100.0 * t);
+        assert!(
+            (t_new / (100.0 * t) - 1.0).abs() < 0.05,
+            "{t_new} vs {}",
+            100.0 * t
+        );
         // Hotter than the initial temperature: back to the start of the schedule.
-        assert_eq!(reanneal_parameter(0.5, 1.0, c, d, 1e-3, 8.0), Some((1.0, 1.0)));
+        assert_eq!(
+            reanneal_parameter(0.5, 1.0, c, d, 1e-3, 8.0),
+            Some((1.0, 1.0))
+        );
         assert_eq!(reanneal_parameter(t, 1.0, c, d, 0.0, 8.0), None);
         // A huge index is rescaled with the initial temperature, giving the same temperature.
         // (Only in many dimensions: ASA's eps caps the index near (ln(1/eps)/c)^D.)
@@ -627,7 +651,10 @@ mod tests {
     #[test]
     fn asa_minimises_the_bowl_and_stops_on_the_budget() {
         let mut b = Bowl::new(4000);
-        assert_eq!(run(&AsaConfig::default(), &mut b), Err(Stop::EvaluationBudget));
+        assert_eq!(
+            run(&AsaConfig::default(), &mut b),
+            Err(Stop::EvaluationBudget)
+        );
         let best = b
             .evaluated
             .iter()

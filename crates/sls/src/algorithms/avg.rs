@@ -150,7 +150,10 @@ mod tests {
         assert_eq!(b.evaluated[0], vec![0.9, 1.0]);
         assert_eq!(b.evaluated[3], vec![0.0, 3.0]);
         let avg = &b.evaluated[4];
-        assert!((avg[0] - 0.45).abs() < 1e-2 && (avg[1] - 2.0).abs() < 1e-2, "{avg:?}");
+        assert!(
+            (avg[0] - 0.45).abs() < 1e-2 && (avg[1] - 2.0).abs() < 1e-2,
+            "{avg:?}"
+        );
         // The averages halve the distance to the minimum each round, so the RMSE keeps
         // changing by a factor 4: no restart within the budget at the default tolerance.
         let picks = |b: &Bowl| {

@@ -36,9 +36,12 @@ pub const STAGNATION_TOLERANCE: f64 = 1e-3;
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct SalsConfig {
-    /// The first SA after each random pick (more and hotter temperatures).
+    /// The first SA after each random pick (more and hotter temperatures; default 0.5 -> 0.05,
+    /// 10 temperatures of 40 iterations). A table given in a configuration replaces the whole
+    /// schedule: its missing fields take [`SaConfig`]'s defaults, not these.
     pub first: SaConfig,
-    /// The SA after each descent (few, cool temperatures).
+    /// The SA after each descent (few, cool temperatures; default 0.05 -> 0.005, 3
+    /// temperatures of 40 iterations). Same replacement rule as `first`.
     pub later: SaConfig,
     /// Descent sample size: 0 (the default) for the full data set, else a fresh random
     /// subsample of this many samples per descent.
