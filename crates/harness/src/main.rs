@@ -181,8 +181,16 @@ impl DataArgs {
                 self.data.display()
             );
         }
-        harness::instance::load_file(&fs, &self.data)
-            .with_context(|| format!("reading {}", self.data.display()))
+        let (data, rep) = harness::instance::load_file(&fs, &self.data)
+            .with_context(|| format!("reading {}", self.data.display()))?;
+        if rep.negative > 0 {
+            // Noisy synthetic data (brdf-sls gen --sigma) legitimately has negative values.
+            eprintln!(
+                "note: {} negative values dropped; pass --keep-negative to keep them (noisy synthetic data)",
+                rep.negative
+            );
+        }
+        Ok((data, rep))
     }
 }
 
@@ -246,7 +254,7 @@ struct FitArgs {
     data: DataArgs,
     #[command(flatten)]
     model: ModelArgs,
-    /// Algorithm: aed, aers, rpls, ds.
+    /// Algorithm kind: aed, aers, rpls, ds, sa, sals, avg, asa.
     #[arg(long, default_value = "aed")]
     algorithm: String,
     /// Algorithm parameter NAME=VALUE (TOML value, e.g. phi=1.2); repeatable.
@@ -403,6 +411,11 @@ fn cmd_run(a: RunArgs) -> Result<()> {
     }
     eprint!("{}", spec.describe(threads));
     eprintln!("results: {}", out.display());
+    let machine = harness::machine::MachineInfo::current(threads);
+    eprintln!(
+        "machine: {}, {} logical CPUs, {} worker thread(s)",
+        machine.cpu_model, machine.logical_cpus, threads
+    );
     let (executor, built) = SlsExecutor::new(&spec).context("building the instances")?;
     for (i, b) in spec.instances.iter().zip(&built) {
         let rep = b
@@ -585,13 +598,13 @@ fn cmd_fit(a: FitArgs) -> Result<()> {
         r.stop
     );
     println!(
-        "RMSE {rmse:.6} after {:.2} CPU s ({:.2} wall s, {} sample-evaluations)",
+        "RMSE {rmse:.6} after {:.4} CPU s ({:.4} wall s, {} sample-evaluations)",
         r.ended_at.cpu_seconds,
         r.ended_at.wall_seconds,
         r.ended_at.evaluations.total()
     );
     if let Some(at) = r.reached_at {
-        println!("target {} reached at {:.3} CPU s", a.target, at.cpu_seconds);
+        println!("target {} reached at {:.4} CPU s", a.target, at.cpu_seconds);
     }
     println!("fitted parameters:");
     for name in layout.all_names() {

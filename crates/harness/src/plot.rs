@@ -74,6 +74,15 @@ pub fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// Solid for the first palette round, dashed after it, so curves stay distinguishable.
+pub fn line_style(i: usize) -> Style {
+    if i < PALETTE.len() {
+        Style::Line
+    } else {
+        Style::Dashed
+    }
+}
+
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Style {
@@ -215,7 +224,7 @@ pub fn tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()
-    } else if a >= 1e9 || a < 1e-3 {
+    } else if !(1e-3..1e9).contains(&a) {
         let e = a.log10().floor();
         let m = v / 10f64.powf(e);
         if (m.round() - m).abs() < 1e-9 {
@@ -230,7 +239,9 @@ pub fn tick(v: f64) -> String {
     } else if a >= 10.0 {
         trim(format!("{v:.1}"))
     } else {
-        trim(format!("{v:.3}"))
+        // Four significant digits, so neighbouring ticks never print alike.
+        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
     }
 }
 
@@ -304,6 +315,12 @@ pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<Pa
                         message: e.to_string(),
                     })?;
                 }
+                // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face
+                // first (most systems have it), any sans-serif otherwise.
+                let text = text.replace(
+                    "font-family=\"sans-serif\"",
+                    "font-family=\"DejaVu Sans, sans-serif\"",
+                );
                 crate::store::write_atomic(&path, text.as_bytes()).map_err(|source| {
                     PlotError::Io {
                         path: path.clone(),
@@ -548,11 +565,13 @@ pub fn rtd_chart(
         chart.series.push(Series {
             label: Some(format!("{} ({solved}/{})", g.config, o.len())),
             points: step_points(&km, x0, max_t.max(x0)),
-            style: Style::Line,
+            style: line_style(i),
             color: color(i),
             band: Vec::new(),
         });
     }
+    // Curves rise to the right: the lower right corner is usually free.
+    chart.legend = LegendAt::LowerRight;
     if let Some(c) = cutoff {
         chart.vlines.push((c, "cutoff".into()));
     }
@@ -668,7 +687,7 @@ pub fn trace_chart(
         ymin = ymin.min(t);
     }
     // Random picks can have enormous RMSEs; the interesting part is near the targets.
-    let top = targets.iter().copied().fold(ymin, f64::max) * 10.0;
+    let top = targets.iter().copied().fold(ymin, f64::max) * 3.0;
     if ymax > 0.0 && ymin.is_finite() {
         chart.y_range = Some((ymin / 1.05, (ymax * 1.1).min(top)));
     }
@@ -821,7 +840,7 @@ pub fn ecdf_targets_chart(
         chart.series.push(Series {
             label: Some(g.config.clone()),
             points: step_points(&kaplan_meier(o), x0, max_t.max(x0)),
-            style: Style::Line,
+            style: line_style(i),
             color: color(i),
             band: Vec::new(),
         });
@@ -855,6 +874,9 @@ mod tests {
         assert_eq!(tick(25000.0), "25k");
         assert_eq!(tick(2.5e6), "2.5M");
         assert_eq!(tick(1e10), "1e10");
+        assert_eq!(tick(0.0045), "0.0045");
+        assert_eq!(tick(0.0035), "0.0035");
+        assert_eq!(tick(3.5), "3.5");
         assert_eq!(slug("AED phi=1.2"), "AED_phi-1.2");
         let g = target_grid(0.1, 1.0, 3);
         assert!((g[1] - 0.1f64.sqrt()).abs() < 1e-12);

@@ -322,14 +322,41 @@ pub fn polar_panels(plot: &PolarPlot) -> Vec<PolarPanel> {
     panels
 }
 
-/// Draws `plot` to `<base>.png` and/or `<base>.svg` (PNG written atomically via a temporary
-/// file), returning the files written.
+/// Draws `plot` to `<base>.png` and/or `<base>.svg` (both written atomically via a temporary
+/// file), returning the files written. Panels of at least 200x150 pixels, at most 30
+/// incident angles, each in `[0, 90)` degrees; otherwise a [`PlotError::Draw`] naming the
+/// problem.
 pub fn draw_polar(
     plot: &PolarPlot,
     base: &Path,
     formats: &[PlotFormat],
 ) -> Result<Vec<PathBuf>, PlotError> {
     register_fonts();
+    let invalid = |message: String| PlotError::Draw {
+        path: base.to_path_buf(),
+        message,
+    };
+    if plot.panel_size.0 < 200 || plot.panel_size.1 < 150 {
+        return Err(invalid(format!(
+            "panel_size must be at least 200x150 pixels, got {}x{}",
+            plot.panel_size.0, plot.panel_size.1
+        )));
+    }
+    if plot.incident_deg.len() > 30 {
+        return Err(invalid(format!(
+            "at most 30 incident angles (panels), got {}",
+            plot.incident_deg.len()
+        )));
+    }
+    if let Some(t) = plot
+        .incident_deg
+        .iter()
+        .find(|t| !(**t >= 0.0 && **t < 90.0))
+    {
+        return Err(invalid(format!(
+            "incident angles must be in [0, 90) degrees, got {t}"
+        )));
+    }
     let panels = polar_panels(plot);
     let n = panels.len().max(1);
     let cols = n.min(3) as u32;
@@ -616,9 +643,15 @@ fn draw_legend<DB: DrawingBackend>(
         .pos(text_pos(HPos::Left, VPos::Center));
     let y = 22;
     let mut x = 20;
-    // Advance per entry: a rough width estimate (DejaVu Sans at 15 px averages ~8.5 px per
-    // character) keeps entries apart without measuring text on every backend.
-    let advance = |label: &str| 40 + (label.chars().count() as i32 * 17) / 2 + 24;
+    // Advance per entry: the label's measured width plus the marker and a gap (a rough
+    // estimate when the backend cannot measure).
+    let advance = |label: &str| {
+        let w = area
+            .estimate_text_size(label, &font)
+            .map(|(w, _)| w as i32)
+            .unwrap_or(label.chars().count() as i32 * 8);
+        26 + w + 36
+    };
     if let Some(m) = plot.measured {
         area.draw(&Circle::new((x + 10, y), 4, m.color.filled()))
             .map_err(e)?;
@@ -787,6 +820,12 @@ mod tests {
         }
         let panels = polar_panels(&plot);
         assert_eq!(panels.len(), 4);
+        let mut bad = plot.clone();
+        bad.incident_deg = vec![95.0];
+        assert!(draw_polar(&bad, &dir.path().join("bad"), &[PlotFormat::Png]).is_err());
+        bad.incident_deg = vec![10.0];
+        bad.panel_size = (0, 0);
+        assert!(draw_polar(&bad, &dir.path().join("bad"), &[PlotFormat::Png]).is_err());
         assert!((panels[1].r_max - 1.2 * 0.5).abs() < 1e-12);
         // No measured samples at 70 degrees: the radius comes from the (finite) curves.
         assert!(panels[2].measured.is_empty() && panels[2].r_max.is_finite());

@@ -151,11 +151,12 @@ impl Progress {
                     b.set_message(format!("ok {}", s.ok[config]));
                 }
             }
-            ProgressMode::Plain => {
-                if s.last_line.elapsed() >= Duration::from_secs(10) || s.total_done == self.total {
-                    s.last_line = Instant::now();
-                    eprintln!("{}", self.line(&s));
-                }
+            ProgressMode::Plain
+                if s.last_line.elapsed() >= Duration::from_secs(10)
+                    || s.total_done == self.total =>
+            {
+                s.last_line = Instant::now();
+                eprintln!("{}", self.line(&s));
             }
             _ => {}
         }

@@ -107,6 +107,18 @@ pub enum RunError {
     /// The results store failed or refused.
     #[error(transparent)]
     Store(#[from] StoreError),
+    /// A trial panicked (a bug in the algorithm or model); finished trials are kept.
+    #[error(
+        "trial {key} (seed {seed}) panicked: {message}; the trials finished so far are saved, rerun to resume"
+    )]
+    TrialPanicked {
+        /// The trial's key.
+        key: String,
+        /// The trial's seed, to reproduce it.
+        seed: u64,
+        /// The panic message.
+        message: String,
+    },
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Pool {
@@ -201,7 +213,7 @@ pub fn run_experiment<E: Executor>(
     let fresh_records = Mutex::new(Vec::with_capacity(pending.len()));
     let started = Instant::now();
     let store = &opened.store;
-    let result: Result<(), StoreError> = pool.install(|| {
+    let result: Result<(), RunError> = pool.install(|| {
         pending
             .par_iter()
             // One trial per task: trials are long and uneven, so no batching.
@@ -209,7 +221,18 @@ pub fn run_experiment<E: Executor>(
             .try_for_each(|t| {
                 let inst = &spec.instances[t.instance];
                 let target = inst.run_target();
-                let result = executor.run(t, target, spec.budget);
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    executor.run(t, target, spec.budget)
+                }))
+                .map_err(|p| RunError::TrialPanicked {
+                    key: t.key.clone(),
+                    seed: t.seed,
+                    message: p
+                        .downcast_ref::<&str>()
+                        .map(|s| s.to_string())
+                        .or_else(|| p.downcast_ref::<String>().cloned())
+                        .unwrap_or_else(|| "unknown panic".into()),
+                })?;
                 let record = TrialRecord {
                     key: t.key.clone(),
                     instance: inst.name.clone(),
@@ -220,7 +243,7 @@ pub fn run_experiment<E: Executor>(
                     budget: spec.budget,
                     result,
                 };
-                store.append(&record)?;
+                store.append(&record).map_err(RunError::Store)?;
                 progress.trial_done(t.config, record.result.reached());
                 fresh_records
                     .lock()

@@ -44,7 +44,7 @@
 //!
 //! [[algorithm]]                  # one or more
 //! label = "AED"                  # default: the kind in capitals
-//! kind = "aed"                   # aed | aers | rpls | ds (sls::AlgorithmConfig)
+//! kind = "aed"                   # aed | aers | rpls | ds | sa | sals | avg | asa (sls::AlgorithmConfig)
 //! phi = 1.4                      # any parameter of that algorithm; missing = paper default
 //! [algorithm.sweep]              # optional: one configuration per value (cartesian product)
 //! rho0 = [10, 25, 50]            # a list, or
@@ -611,12 +611,11 @@ pub fn format_value(x: f64) -> String {
             (3 - x.abs().log10().floor() as i32).max(0) as usize,
             x
         );
-        let s = if s.contains('.') {
+        if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
             s
-        };
-        s
+        }
     } else {
         format!("{x:.3e}")
     }
@@ -884,14 +883,20 @@ impl Spec {
                 None => {
                     return Err(invalid(
                         Some(entry_line),
-                        "algorithm: missing `kind` (aed, aers, rpls, ds)".into(),
+                        format!(
+                            "algorithm: missing `kind` (one of {})",
+                            known_kinds().join(", ")
+                        ),
                     ));
                 }
             };
             if AlgorithmConfig::default_for(&kind).is_none() {
                 return Err(invalid(
                     at("kind"),
-                    format!("algorithm: unknown `kind` `{kind}` (expected aed, aers, rpls or ds)"),
+                    format!(
+                        "algorithm: unknown `kind` `{kind}` (expected one of {})",
+                        known_kinds().join(", ")
+                    ),
                 ));
             }
             let label = match table.remove("label") {
@@ -1228,6 +1233,14 @@ fn push_config(
     Ok(())
 }
 
+/// Algorithm kinds this build of sls knows (names probed with `AlgorithmConfig::default_for`).
+pub fn known_kinds() -> Vec<&'static str> {
+    ["aed", "aers", "rpls", "ds", "sa", "sals", "avg", "asa"]
+        .into_iter()
+        .filter(|k| AlgorithmConfig::default_for(k).is_some())
+        .collect()
+}
+
 /// Text of a budget, e.g. "10 CPU s".
 pub fn budget_text(b: &Budget) -> String {
     let mut parts = Vec::new();
@@ -1358,6 +1371,32 @@ kind = "rpls"
         let plan = s.describe(2);
         assert!(plan.contains("12 trials"), "{plan}");
         assert!(plan.contains("6.0 s CPU"), "{plan}");
+    }
+
+    #[test]
+    fn documented_example_parses() {
+        // The format example in this module's docs is what users copy: keep it valid.
+        let src = include_str!("spec.rs");
+        let start = src.find("//! ```toml\n").unwrap() + "//! ```toml\n".len();
+        let end = start + src[start..].find("//! ```\n").unwrap();
+        let example: String = src[start..end]
+            .lines()
+            .map(|l| {
+                l.strip_prefix("//!")
+                    .unwrap_or(l)
+                    .strip_prefix(' ')
+                    .unwrap_or("")
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let s = parse(&example).unwrap_or_else(|e| panic!("{e}\n{example}"));
+        assert_eq!(s.name, "tuning-aed-sweep");
+        assert_eq!(
+            s.config_labels(),
+            vec!["AED rho0=10", "AED rho0=25", "AED rho0=50"]
+        );
+        assert_eq!(s.instances[0].model.fixed.get("lobe1.pan"), Some(&45.0));
+        assert_eq!(s.budget.sample_evaluations, Some(2_000_000_000));
     }
 
     #[test]

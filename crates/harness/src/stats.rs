@@ -631,11 +631,16 @@ pub fn csv_field(s: &str) -> String {
 pub fn fmt_num(v: Option<f64>) -> String {
     match v {
         None => "-".into(),
-        Some(x) if x == 0.0 => "0".into(),
+        Some(0.0) => "0".into(),
         Some(x) if x.abs() >= 1e5 => format!("{x:.3e}"),
         Some(x) if x.abs() >= 100.0 => format!("{x:.0}"),
         Some(x) if x.abs() >= 1.0 => format!("{x:.2}"),
-        Some(x) => format!("{x:.3}"),
+        Some(x) if x.abs() < 1e-4 => format!("{x:.2e}"),
+        // Three significant digits below 1 (run times of a few milliseconds are common).
+        Some(x) => {
+            let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+            format!("{x:.decimals$}")
+        }
     }
 }
 
@@ -653,7 +658,7 @@ pub fn table(report: &StatsReport) -> String {
     for c in &report.configs {
         if last != Some((c.instance.as_str(), c.target)) {
             out.push_str(&format!(
-                "\n{} - target RMSE {}\n{:<width$}  {:>7}  {:>8} {:>8} {:>8}  {:>8} {:>17}  {:>10} {:>10}\n",
+                "\n{} - target RMSE {}\n{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
                 c.instance,
                 c.target,
                 "configuration",
@@ -674,7 +679,7 @@ pub fn table(report: &StatsReport) -> String {
             _ => "-".into(),
         };
         out.push_str(&format!(
-            "{:<width$}  {:>7}  {:>8} {:>8} {:>8}  {:>8} {:>17}  {:>10} {:>10}\n",
+            "{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
             c.config,
             format!("{}/{}", m.successes, m.trials),
             fmt_num(m.quantiles[1]),
@@ -691,7 +696,12 @@ pub fn table(report: &StatsReport) -> String {
         .iter()
         .filter(|t| t.measure == Measure::CpuSeconds)
         .collect();
-    if !sig.is_empty() {
+    if sig.len() > 30 {
+        out.push_str(&format!(
+            "\n{} pairwise tests (Mann-Whitney, KS, Holm-adjusted): see tests.csv\n",
+            sig.len()
+        ));
+    } else if !sig.is_empty() {
         out.push_str("\nPairwise (CPU time; Holm-adjusted p-values; censored runs = +inf)\n");
         for t in sig {
             let dom = if t.a_dominates {
@@ -719,6 +729,9 @@ pub fn table(report: &StatsReport) -> String {
 fn fmt_p(p: Option<f64>) -> String {
     match p {
         None => "-".into(),
+        // statrs computes the asymptotic Mann-Whitney p as 1 - Phi(z), which is exactly 0 once
+        // z > ~8.3: all that is known then is p < ~1e-15.
+        Some(0.0) => "<1e-15".into(),
         Some(p) if p < 1e-4 => format!("{p:.1e}"),
         Some(p) => format!("{p:.4}"),
     }

@@ -32,11 +32,6 @@ fn results_identical_for_one_and_two_threads() {
     assert_eq!(one.new_trials, 12);
     let a: Vec<String> = one.records.iter().map(deterministic_view).collect();
     let b: Vec<String> = two.records.iter().map(deterministic_view).collect();
-    for (x, y) in a.iter().zip(&b) {
-        if x != y {
-            eprintln!("DIFF\n{x}\n{y}");
-        }
-    }
     assert_eq!(a, b);
     // Seeds differ between trials and configurations.
     let mut seeds: Vec<u64> = one.records.iter().map(|r| r.seed).collect();
@@ -181,4 +176,59 @@ fn report_writes_statistics_and_plots() {
     let tests = std::fs::read_to_string(out.join("tests.csv")).unwrap();
     // 3 pairs x 2 targets x 2 measures.
     assert_eq!(tests.lines().count(), 1 + 12);
+}
+
+/// A fake executor: deterministic results from the seed; panics on one trial index if asked.
+struct Fake {
+    panic_on: Option<u32>,
+}
+
+impl harness::run::Executor for Fake {
+    fn run(
+        &self,
+        t: &harness::spec::PlannedTrial,
+        target: f64,
+        _budget: sls::Budget,
+    ) -> sls::TrialResult {
+        if self.panic_on == Some(t.trial) {
+            panic!("boom in trial {}", t.trial);
+        }
+        let secs = (t.seed % 1000) as f64 / 1000.0;
+        let at = sls::Stamp {
+            cpu_seconds: secs,
+            wall_seconds: secs,
+            evaluations: sls::EvalCounts {
+                residual_rows: t.seed % 977,
+                jacobian_rows: 0,
+                rmse_rows: 100,
+            },
+        };
+        sls::TrialResult {
+            stop: sls::StopReason::Target,
+            reached_at: Some(at),
+            ended_at: at,
+            best_rmse: target,
+            best_x: vec![secs],
+            trace: vec![sls::TracePoint { at, rmse: target }],
+            counters: Vec::new(),
+        }
+    }
+}
+
+#[test]
+fn a_panicking_trial_stops_the_run_and_keeps_finished_trials() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let out = dir.path().join("r");
+    let err = run_experiment(&s, &out, &options(1), &Fake { panic_on: Some(2) }).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        matches!(err, RunError::TrialPanicked { .. }) && msg.contains("boom in trial 2"),
+        "{msg}"
+    );
+    // With one thread the plan order is followed: trials 0 and 1 of every configuration finished.
+    let kept = read_results(&out).unwrap().records.len();
+    assert_eq!(kept, 6);
+    let r = run_experiment(&s, &out, &options(2), &Fake { panic_on: None }).unwrap();
+    assert_eq!((r.resumed, r.new_trials), (6, 6));
 }
