@@ -1,23 +1,31 @@
-//! Runs the NIST StRD suite with both step models and writes the per-problem table to
+//! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
+//! radius rule) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table`.
 
 #[path = "../tests/common/nist.rs"]
 mod nist;
 
-use bounded_lm::{Options, StepModel};
+use bounded_lm::{Options, RadiusUpdate, StepModel};
 use std::fmt::Write as _;
 
 fn main() {
     let mut out = String::new();
     let mut totals = Vec::new();
-    let default_model = Options::default().model;
+    let defaults = Options::default();
     let mut tables = String::new();
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
+    let configs = [
+        (StepModel::GaussNewton, defaults.radius_update),
+        (StepModel::Adaptive, defaults.radius_update),
+        (StepModel::GaussNewton, RadiusUpdate::Classic),
+    ];
+    for (model, radius_update) in configs {
         let options = Options {
             model,
+            radius_update,
             ..Options::default()
         };
+        let label = format!("{model:?}, {radius_update:?} radius");
         let runs = nist::run_all(&options);
         let correct = runs.iter().filter(|r| r.correct()).count();
         let wrong_success = runs
@@ -32,11 +40,11 @@ fn main() {
             .filter(|r| r.correct())
             .map(|r| r.report.residual_evaluations)
             .sum();
-        totals.push((model, correct, wrong_success, fev, jev, its, fev_ok));
+        totals.push((label.clone(), correct, wrong_success, fev, jev, its, fev_ok));
         let _ = writeln!(
             tables,
-            "\n## {model:?}{}\n",
-            if model == default_model {
+            "\n## {label}{}\n",
+            if model == defaults.model && radius_update == defaults.radius_update {
                 " (default)"
             } else {
                 ""
@@ -82,16 +90,16 @@ fn main() {
     );
     let _ = writeln!(
         out,
-        "| model | correct | success code on a wrong answer | iterations | residual evals | Jacobian evals | residual evals (correct runs) |"
+        "| configuration | correct | success code on a wrong answer | iterations | residual evals | Jacobian evals | residual evals (correct runs) |"
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
     for (model, correct, wrong, fev, jev, its, fev_ok) in &totals {
         let _ = writeln!(
             out,
-            "| {model:?} | {correct}/54 | {wrong} | {its} | {fev} | {jev} | {fev_ok} |"
+            "| {model} | {correct}/54 | {wrong} | {its} | {fev} | {jev} | {fev_ok} |"
         );
         println!(
-            "{model:?}: {correct}/54 correct, {wrong} success codes on wrong answers, {its} iterations, {fev} residual evals, {jev} Jacobian evals"
+            "{model}: {correct}/54 correct, {wrong} success codes on wrong answers, {its} iterations, {fev} residual evals, {jev} Jacobian evals"
         );
     }
     out.push_str(&tables);

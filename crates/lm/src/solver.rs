@@ -5,7 +5,7 @@ use crate::linalg::{
     backward_solve, cholesky_shifted, dot, forward_solve, householder_qr, jt_vec, norm,
     shifted_triangular, sym_mat_vec, upper_solve, upper_transpose_solve,
 };
-use crate::{Options, Outcome, Problem, Report, SolveError, StepModel};
+use crate::{Options, Outcome, Problem, RadiusUpdate, Report, SolveError, StepModel};
 
 /// Relative pivot threshold at which the augmented model `D^-1 (J^T J + S) D^-1` counts as
 /// singular or indefinite (no Newton step).
@@ -17,6 +17,8 @@ const QR_RANK_TOL: f64 = 1e-13;
 const SHIFTED_TOL: f64 = 1e-15;
 /// Accepted relative error of the constrained step length (NL2SOL's EPSLON).
 const RADIUS_SLACK: f64 = 0.1;
+/// At most this many longer steps are tried from the same point in one iteration.
+const MAX_RADINC: i32 = 1;
 /// A step is accepted when the actual reduction exceeds this fraction of the predicted one.
 const ACCEPT_RATIO: f64 = 1e-4;
 
@@ -80,6 +82,10 @@ struct Workspace {
     y: Vec<f64>,
     ysharp: Vec<f64>,
     w: Vec<f64>,
+    /// A good trial point, its residuals and step, saved while a longer step is tried.
+    x_good: Vec<f64>,
+    r_good: Vec<f64>,
+    step_good: Vec<f64>,
     /// Last Levenberg-Marquardt parameter, a warm start for the next subproblem.
     lambda: f64,
 }
@@ -92,6 +98,9 @@ struct StepInfo {
     /// Predicted reduction of the full Gauss-Newton (Newton) step on the first free set, or
     /// negative when that step does not exist (singular model).
     nreduc: f64,
+    /// Scaled length of the first pass's Newton step (NL2SOL's DST0), negative when it does not
+    /// exist.
+    newton_norm: f64,
     /// The step is the unconstrained Newton step (lambda 0, not cut by a bound).
     newton: bool,
     /// `||D s||`.
@@ -117,6 +126,8 @@ impl Workspace {
             &mut self.g_prev,
             &mut self.step,
             &mut self.step_alt,
+            &mut self.x_good,
+            &mut self.step_good,
             &mut self.gm,
             &mut self.hs,
             &mut self.sub_g,
@@ -138,6 +149,7 @@ impl Workspace {
             &mut self.r,
             &mut self.r_trial,
             &mut self.r_prev,
+            &mut self.r_good,
             &mut self.rq,
         ] {
             grow(v, m);
@@ -281,6 +293,7 @@ impl Workspace {
         let mut info = StepInfo {
             preduc: 0.0,
             nreduc: -1.0,
+            newton_norm: -1.0,
             newton: false,
             dnorm: 0.0,
         };
@@ -387,9 +400,10 @@ impl Workspace {
                 } else {
                     tr.newton_reduction
                 };
-                info.newton = tr.is_newton;
-                first = false;
+                info.newton_norm = tr.newton_norm;
             }
+            // N2FB's STPPAR: whether the last sub-step solved is the Newton step (lambda = 0).
+            info.newton = tr.is_newton;
             // Largest feasible fraction of the sub-step.
             let mut alpha = 1.0f64;
             let mut hit = usize::MAX;
@@ -422,6 +436,14 @@ impl Workspace {
                 break;
             }
             info.newton = false;
+            // A variable sitting on its bound whose step leaves the box at once (alpha = 0,
+            // nothing moved yet) is active: the free set excludes it, so NREDUC (and STPPAR)
+            // are those of the next pass, the problem restricted to the truly free variables.
+            if first && !(alpha > 0.0) {
+                self.fixed[hit] = true;
+                continue;
+            }
+            first = false;
             self.step[hit] = if hit_upper {
                 self.hi[hit] - self.x[hit]
             } else {
@@ -444,6 +466,41 @@ impl Workspace {
         info.preduc = pred;
         info.dnorm = self.scaled_norm_step();
         info
+    }
+
+    /// N2FB's gradient tests (DG7ITB) after a step accepted with the radius unchanged, with `w`
+    /// = model Hessian times the step (at the old point), `g_prev` the old gradient and `g` the
+    /// new one: the radius may still double when the model predicted the new gradient well,
+    /// `||D^-1 (H s + g_old - g_new)|| <= 0.5 ||D^-1 g_new||` (free variables), or when the
+    /// slope along the step is still at least 3/4 of the old one, `g_new^T s < 0.75 g_old^T s`.
+    fn gradient_tests(&self) -> bool {
+        let mut err2 = 0.0;
+        let mut gn2 = 0.0;
+        let mut gts_new = 0.0;
+        let mut gts_old = 0.0;
+        for i in 0..self.p {
+            let s = self.x[i] - self.x_prev[i];
+            gts_new += self.g[i] * s;
+            gts_old += self.g_prev[i] * s;
+            let e = (self.w[i] + self.g_prev[i] - self.g[i]) / self.d[i];
+            err2 += e * e;
+            let held = self.lo[i] >= self.hi[i]
+                || (self.x[i] <= self.lo[i] && self.g[i] > 0.0)
+                || (self.x[i] >= self.hi[i] && self.g[i] < 0.0);
+            if !held {
+                let v = self.g[i] / self.d[i];
+                gn2 += v * v;
+            }
+        }
+        err2.sqrt() <= 0.5 * gn2.sqrt() || gts_new < 0.75 * gts_old
+    }
+
+    /// Swaps the trial point, its residuals and the step with the saved good ones (saving one,
+    /// or restoring it; buffers are swapped, not copied).
+    fn swap_good(&mut self) {
+        std::mem::swap(&mut self.x_trial, &mut self.x_good);
+        std::mem::swap(&mut self.r_trial, &mut self.r_good);
+        std::mem::swap(&mut self.step, &mut self.step_good);
     }
 
     fn scaled_norm_step(&self) -> f64 {
@@ -499,6 +556,8 @@ struct TrResult {
     lambda: f64,
     /// Predicted reduction of the Newton step, negative when the model is singular or indefinite.
     newton_reduction: f64,
+    /// Scaled length of the Newton step (NL2SOL's DST0), negative when it does not exist.
+    newton_norm: f64,
     is_newton: bool,
 }
 
@@ -624,18 +683,22 @@ fn trust_region(
         return TrResult {
             lambda: 0.0,
             newton_reduction: 0.0,
+            newton_norm: 0.0,
             is_newton: true,
         };
     }
     let mut newton_reduction = -1.0;
+    let mut newton_norm = -1.0;
     if let Some(red) = sub.newton(z) {
         let nz = norm(z);
         if nz.is_finite() && red.is_finite() {
             newton_reduction = red;
+            newton_norm = nz;
             if nz <= radius * (1.0 + RADIUS_SLACK) {
                 return TrResult {
                     lambda: 0.0,
                     newton_reduction,
+                    newton_norm,
                     is_newton: true,
                 };
             }
@@ -678,6 +741,7 @@ fn trust_region(
             return TrResult {
                 lambda: lam,
                 newton_reduction,
+                newton_norm,
                 is_newton: false,
             };
         }
@@ -702,6 +766,7 @@ fn trust_region(
         TrResult {
             lambda: best_lambda,
             newton_reduction,
+            newton_norm,
             is_newton: false,
         }
     } else {
@@ -726,6 +791,7 @@ fn trust_region(
         TrResult {
             lambda: hi,
             newton_reduction,
+            newton_norm,
             is_newton: false,
         }
     }
@@ -842,6 +908,26 @@ fn iterate<P: Problem>(
     let mut have_prev_jacobian = false;
     let mut switched_this_iteration = false;
     let mut f_prev = f;
+    // RADFAC of the last accepted step: the radius becomes RADFAC * ||D_new s|| once the new
+    // scaling is known.
+    let mut radfac_pending = 0.0f64;
+    // Radius decreases so far in this iteration (NL2SOL's RADINC, negative): after one, a good
+    // step keeps the radius instead of increasing it.
+    let mut radinc: i32 = 0;
+    let nl2sol_radius = opt.radius_update == RadiusUpdate::Nl2sol;
+    // A good step saved while a longer one is tried (NL2SOL's FLSTGD, PLSTGD, DSTSAV).
+    let mut have_good = false;
+    let mut good = Good {
+        f,
+        info: StepInfo {
+            preduc: 0.0,
+            nreduc: -1.0,
+            newton_norm: -1.0,
+            newton: false,
+            dnorm: 0.0,
+        },
+        reldx: 0.0,
+    };
     loop {
         if need_jacobian {
             if iterations >= opt.max_iterations {
@@ -867,13 +953,32 @@ fn iterate<P: Problem>(
                 have_prev_jacobian = false;
                 need_jacobian = false;
                 radius *= 0.5;
+                radfac_pending = 0.0;
                 if iterations >= opt.max_iterations {
                     return Ok(done(Outcome::IterationLimit, f, iterations, nfev, njev));
                 }
             } else {
                 iterations += 1;
                 ws.update_scaling(iterations == 1);
+                radinc = 0;
                 ws.factor_jacobian();
+                if nl2sol_radius && radfac_pending > 0.0 {
+                    if radfac_pending == 1.0 && ws.gradient_tests() {
+                        radfac_pending = 2.0;
+                    }
+                    // N2FB (DG7ITB): t = RADFAC * ||D_new s||; the radius becomes t when
+                    // RADFAC < 1 or t is larger, so a short step never shrinks it otherwise.
+                    let mut s2 = 0.0;
+                    for i in 0..p {
+                        let v = ws.d[i] * (ws.x[i] - ws.x_prev[i]);
+                        s2 += v * v;
+                    }
+                    let t = radfac_pending * s2.sqrt();
+                    if radfac_pending < 1.0 || t > radius {
+                        radius = t;
+                    }
+                    radfac_pending = 0.0;
+                }
                 if have_prev_jacobian && adaptive {
                     // y = g_new - g_old, y# = J_new^T r_new - J_old^T r_new.
                     for i in 0..p {
@@ -889,43 +994,70 @@ fn iterate<P: Problem>(
             }
         }
 
-        let info = ws.compute_step(radius, augmented);
-        if info.dnorm == 0.0 || !(info.preduc > 0.0) {
-            // No descent step inside the box. With a zero step (projected gradient exactly zero)
-            // or a Gauss-Newton reduction within tolerance, x is stationary on its active face,
-            // which both reductions being zero signals to N2FB. Otherwise (the model predicts no
-            // decrease though f is not known to be optimal) report singular convergence, never a
-            // success code.
-            let emax = opt.rel_function_tol * f.abs();
-            let stationary = info.dnorm == 0.0 || (info.nreduc >= 0.0 && info.nreduc <= emax);
-            let outcome = if stationary {
-                Outcome::RelativeFunctionConvergence
-            } else {
-                Outcome::SingularConvergence
-            };
-            return Ok(done(outcome, f, iterations, nfev, njev));
-        }
-        if nfev >= opt.max_evaluations {
-            return Ok(done(Outcome::EvaluationLimit, f, iterations, nfev, njev));
-        }
-        for i in 0..p {
-            ws.x_trial[i] = (ws.x[i] + ws.step[i]).clamp(ws.lo[i], ws.hi[i]);
-        }
-        nfev += 1;
-        let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
-        let f_trial = if evaluated {
-            half_sum_squares(&ws.r_trial[..m])
-        } else {
-            f64::NAN
-        };
-        let reldx = ws.reldx(&ws.x_trial, &ws.x);
-        if !f_trial.is_finite() {
-            // Failed evaluation: reject the step and shrink the radius.
-            radius = 0.5 * info.dnorm.min(radius);
-            if reldx <= opt.false_conv_tol {
-                return Ok(done(Outcome::FalseConvergence, f, iterations, nfev, njev));
+        let mut info = ws.compute_step(radius, augmented);
+        let mut restored = false;
+        let mut f_trial = f64::NAN;
+        let mut reldx = 0.0;
+        if have_good {
+            // DG7ITB: the longer step is evaluated only if it predicts more than 1.2 times the
+            // reduction the saved step achieved (and the budget allows); otherwise the saved
+            // step is taken.
+            let worthwhile =
+                info.dnorm > 0.0 && info.preduc > 1.2 * (f - good.f) && nfev < opt.max_evaluations;
+            if !worthwhile {
+                have_good = false;
+                ws.swap_good();
+                (info, f_trial, reldx, restored) = (good.info, good.f, good.reldx, true);
             }
-            continue;
+        }
+        if !restored {
+            if info.dnorm == 0.0 || !(info.preduc > 0.0) {
+                // No descent step inside the box. With a zero step (projected gradient exactly
+                // zero) or a Gauss-Newton reduction within tolerance, x is stationary on its
+                // active face, which both reductions being zero signals to N2FB. Otherwise (the
+                // model predicts no decrease though f is not known to be optimal) report
+                // singular convergence, never a success code.
+                let emax = opt.rel_function_tol * f.abs();
+                let stationary = info.dnorm == 0.0 || (info.nreduc >= 0.0 && info.nreduc <= emax);
+                let outcome = if stationary {
+                    Outcome::RelativeFunctionConvergence
+                } else {
+                    Outcome::SingularConvergence
+                };
+                return Ok(done(outcome, f, iterations, nfev, njev));
+            }
+            if nfev >= opt.max_evaluations {
+                return Ok(done(Outcome::EvaluationLimit, f, iterations, nfev, njev));
+            }
+            for i in 0..p {
+                ws.x_trial[i] = (ws.x[i] + ws.step[i]).clamp(ws.lo[i], ws.hi[i]);
+            }
+            nfev += 1;
+            let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
+            f_trial = if evaluated {
+                half_sum_squares(&ws.r_trial[..m])
+            } else {
+                f64::NAN
+            };
+            reldx = ws.reldx(&ws.x_trial, &ws.x);
+            if have_good {
+                // DA7SST: a longer step that does not beat the saved one (or cannot be
+                // evaluated) is dropped and the saved step taken.
+                have_good = false;
+                if !(f_trial < good.f) {
+                    ws.swap_good();
+                    (info, f_trial, reldx, restored) = (good.info, good.f, good.reldx, true);
+                }
+            }
+            if !f_trial.is_finite() {
+                // Failed evaluation: reject the step and shrink the radius.
+                radius = 0.5 * info.dnorm.min(radius);
+                radinc -= 1;
+                if reldx <= opt.false_conv_tol {
+                    return Ok(done(Outcome::FalseConvergence, f, iterations, nfev, njev));
+                }
+                continue;
+            }
         }
         let f0 = f;
         let ared = f0 - f_trial;
@@ -934,7 +1066,7 @@ fn iterate<P: Problem>(
 
         // Model switch (adaptive): would the other model have predicted this reduction better?
         let mut switch_models = false;
-        if adaptive {
+        if adaptive && !restored {
             let (pred, sss) = ws.predicted(augmented);
             let pred_alt = if augmented {
                 pred - 0.5 * sss
@@ -946,8 +1078,43 @@ fn iterate<P: Problem>(
             }
         }
 
-        // Radius update (factors 0.1..4 per step, NL2SOL style).
-        if !accepted {
+        let mut radfac = 0.0;
+        let mut try_longer = false;
+        if nl2sol_radius {
+            // NL2SOL's DA7SST: the new radius is RADFAC times the scaled length of the step; after
+            // an accepted step it is set at the next Jacobian, with the updated D (DG7ITB).
+            let gts = dot(&ws.g[..p], &ws.step[..p]);
+            radfac = if !accepted || ared <= 0.1 * info.preduc {
+                // Fletcher's decrease factor: minimiser of the quadratic through f0, the slope
+                // g^T s and f_trial along the step, within [0.1, 0.5].
+                let emax = gts + ared;
+                if emax < gts {
+                    (0.5 * gts / emax).max(0.1)
+                } else {
+                    0.5
+                }
+            } else if !restored && radinc >= 0 && ared >= -0.75 * gts {
+                // Good decrease, at least 3/4 of the linear prediction -g^T s (not of PREDUC:
+                // with lambda near 0, -g^T s is twice PREDUC), and no decrease earlier in this
+                // iteration: factor 2..4. Unless this was the Newton step, or the Newton step is
+                // less than twice as long or predicts less than 1.2 times this reduction, the
+                // longer step is tried at once from the same point (IRC = 5, no new Jacobian).
+                let mut up = 4.0;
+                if ared < (0.5 / up - 1.0) * gts {
+                    up = (0.5 * gts / (gts + ared)).max(2.0);
+                }
+                let newton_close = info.newton_norm >= 0.0
+                    && (info.newton_norm < 2.0 * info.dnorm || info.nreduc < 1.2 * ared);
+                try_longer = !info.newton && !newton_close && !adaptive && radinc < MAX_RADINC;
+                up
+            } else {
+                1.0
+            };
+            if !accepted {
+                radius = radfac * info.dnorm;
+                radinc -= 1;
+            }
+        } else if !accepted {
             let g_s = dot(&ws.g[..p], &ws.step[..p]);
             // Minimiser of the quadratic through f0, slope g^T s, and f_trial along the step.
             let denom = 2.0 * (f_trial - f0 - g_s);
@@ -966,7 +1133,8 @@ fn iterate<P: Problem>(
             let emaxs = opt.singular_tol * f0.abs();
             let rel = (info.nreduc > 0.0 && info.nreduc <= emax)
                 || (info.nreduc == 0.0 && info.preduc == 0.0);
-            let xconv = info.newton && accepted && reldx <= opt.x_tol;
+            // A restored step is not the last one computed (NL2SOL's GOODX = false).
+            let xconv = info.newton && accepted && !restored && reldx <= opt.x_tol;
             outcome = match (xconv, rel) {
                 (true, true) => Some(Outcome::BothConvergence),
                 (true, false) => Some(Outcome::XConvergence),
@@ -990,6 +1158,20 @@ fn iterate<P: Problem>(
             }
         }
 
+        if try_longer && outcome.is_none() {
+            // Keep this good step and try the longer one (same x, same Jacobian).
+            ws.swap_good();
+            good = Good {
+                f: f_trial,
+                info,
+                reldx,
+            };
+            have_good = true;
+            radinc += 1;
+            radius = radfac * info.dnorm;
+            continue;
+        }
+
         if accepted {
             ws.x_prev[..p].copy_from_slice(&ws.x[..p]);
             ws.r_prev[..m].copy_from_slice(&ws.r[..m]);
@@ -999,6 +1181,11 @@ fn iterate<P: Problem>(
             std::mem::swap(&mut ws.r, &mut ws.r_trial);
             f = f_trial;
             need_jacobian = true;
+            radfac_pending = radfac;
+            if nl2sol_radius && radfac == 1.0 {
+                // Model Hessian times the step, for the gradient tests at the new point.
+                sym_mat_vec(&ws.h, &ws.step, p, &mut ws.w);
+            }
             if switch_models {
                 augmented = !augmented;
             }
@@ -1025,4 +1212,12 @@ fn iterate<P: Problem>(
             ws.build_model(augmented);
         }
     }
+}
+
+/// A good step kept while a longer one is tried from the same point.
+#[derive(Clone, Copy, Debug)]
+struct Good {
+    f: f64,
+    info: StepInfo,
+    reldx: f64,
 }

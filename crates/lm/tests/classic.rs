@@ -616,3 +616,152 @@ fn every_evaluation_is_feasible() {
     assert!(rep.outcome.is_success(), "{rep:?}");
     assert!(inside(&x));
 }
+
+/// `y = x0 (1 + x0) + x1 t + x2 sin(3 t)` on 25 points, fitted to data with intercept -0.5:
+/// with `x0 >= 0` the optimum lies on the bound and the data pull hard into it (`g0 > 0`). On
+/// the face `x0 = 0` the residuals are linear in the free variables.
+fn pulled_into_bound() -> impl Problem {
+    let t: Vec<f64> = (0..25).map(|i| i as f64 / 24.0).collect();
+    let y: Vec<f64> = t
+        .iter()
+        .map(|&t| -0.5 + 2.0 * t + 0.3 * (3.0 * t).sin())
+        .collect();
+    let t2 = t.clone();
+    Fun {
+        m: 25,
+        p: 3,
+        r: move |x: &[f64], r: &mut [f64]| {
+            for i in 0..25 {
+                r[i] = x[0] * (1.0 + x[0]) + x[1] * t[i] + x[2] * (3.0 * t[i]).sin() - y[i];
+            }
+            true
+        },
+        j: move |x: &[f64], j: &mut [f64]| {
+            for i in 0..25 {
+                j[i] = 1.0 + 2.0 * x[0];
+                j[25 + i] = t2[i];
+                j[50 + i] = (3.0 * t2[i]).sin();
+            }
+            true
+        },
+    }
+}
+
+/// The free variables of `pulled_into_bound` on the face `x0 = 0` (least squares by the normal
+/// equations of the 2-column problem).
+fn pulled_into_bound_face_optimum() -> [f64; 2] {
+    let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in 0..25 {
+        let t = i as f64 / 24.0;
+        let (c1, c2) = (t, (3.0 * t).sin());
+        let y = -0.5 + 2.0 * t + 0.3 * (3.0 * t).sin();
+        a11 += c1 * c1;
+        a12 += c1 * c2;
+        a22 += c2 * c2;
+        b1 += c1 * y;
+        b2 += c2 * y;
+    }
+    let det = a11 * a22 - a12 * a12;
+    [(b1 * a22 - b2 * a12) / det, (a11 * b2 - a12 * b1) / det]
+}
+
+#[test]
+fn optimum_on_bound_with_strong_pull_converges_within_a_few_iterations() {
+    // AED calls the solver with 10 iterations: a descent that reaches the face of the box must
+    // report convergence there, not creep into the iteration limit.
+    let options = Options {
+        max_iterations: 10,
+        ..Options::default()
+    };
+    let face = pulled_into_bound_face_optimum();
+    for start in [[0.3, 1.0, 0.0], [0.0, 1.0, 0.0], [1.0, -3.0, 2.0]] {
+        let mut x = start;
+        let rep = Solver::new()
+            .solve(
+                &mut pulled_into_bound(),
+                &mut x,
+                &[0.0, -10.0, -10.0],
+                &[1.0, 10.0, 10.0],
+                &options,
+            )
+            .expect("solve");
+        assert!(rep.outcome.is_success(), "{start:?}: {rep:?}");
+        assert!(rep.iterations <= 6, "{start:?}: {rep:?}");
+        assert_eq!(x[0], 0.0, "{start:?}");
+        assert!(close(&x[1..], &face, 1e-7), "{x:?} {face:?}");
+    }
+}
+
+#[test]
+fn step_cut_at_a_bound_does_not_prevent_convergence() {
+    // Start a hair inside the box with the free variables already optimal on the face: the
+    // Gauss-Newton step crosses the bound, is cut there and the rest (nothing) is re-solved as
+    // a Newton step. As in N2FB (whose x-convergence test asks for STPPAR = 0, the Marquardt
+    // parameter of the last sub-step), that step is a Newton step, so the first iteration
+    // already reports x-convergence. (When any cut step counted as non-Newton, this start ended
+    // in singular convergence, code 7, which AED reads as a failed descent.)
+    let face = pulled_into_bound_face_optimum();
+    let mut x = [1e-12, face[0], face[1]];
+    let rep = solve(
+        &mut pulled_into_bound(),
+        &mut x,
+        &[0.0, -10.0, -10.0],
+        &[1.0, 10.0, 10.0],
+    );
+    assert!(
+        matches!(
+            rep.outcome,
+            Outcome::XConvergence | Outcome::BothConvergence
+        ),
+        "{rep:?}"
+    );
+    assert_eq!(rep.iterations, 1, "{rep:?}");
+    assert_eq!(x[0], 0.0);
+}
+
+#[test]
+fn linear_convergence_on_a_bound_face_is_not_a_stall() {
+    // y = kd + s exp(-n t) with data from kd = -0.3: kd is held on its bound 0, and the face
+    // problem in (s, n) has nonzero residuals, so Gauss-Newton converges only linearly there
+    // (each step shrinks by ~0.27; 10 iterations, AED's limit, are not enough for N2FB's tests).
+    // It must still end with a convergence code on the face, not a stall.
+    let t: Vec<f64> = (0..25).map(|i| i as f64 / 24.0).collect();
+    let y: Vec<f64> = t.iter().map(|&t| -0.3 + 1.3 * (-2.0 * t).exp()).collect();
+    let t2 = t.clone();
+    let mut prob = Fun {
+        m: 25,
+        p: 3,
+        r: move |x: &[f64], r: &mut [f64]| {
+            for i in 0..25 {
+                r[i] = x[0] + x[1] * (-x[2] * t[i]).exp() - y[i];
+            }
+            true
+        },
+        j: move |x: &[f64], j: &mut [f64]| {
+            for i in 0..25 {
+                let e = (-x[2] * t2[i]).exp();
+                j[i] = 1.0;
+                j[25 + i] = e;
+                j[50 + i] = -x[1] * t2[i] * e;
+            }
+            true
+        },
+    };
+    let mut x = [0.5, 1.0, 1.0];
+    let options = Options {
+        max_iterations: 30,
+        ..Options::default()
+    };
+    let rep = Solver::new()
+        .solve(
+            &mut prob,
+            &mut x,
+            &[0.0, 0.0, 0.0],
+            &[1.0, 10.0, 50.0],
+            &options,
+        )
+        .expect("solve");
+    assert!(rep.outcome.is_success(), "{rep:?}");
+    assert!(rep.iterations <= 15, "{rep:?}");
+    assert_eq!(x[0], 0.0);
+}
