@@ -11,6 +11,9 @@
 //! - [`report`]: statistics and plots for a finished (or partial) results directory.
 //! - [`progress`]: progress bars or plain progress lines.
 //! - [`machine`]: CPU model and thread count recorded with results.
+//! - [`instance`]: building an experiment's data sets and layouts.
+//! - [`render`]: the small CPU renderer of a lit flat surface (`brdf-sls render`, Figures 8, 12).
+//! - [`polar`]: polar plots in the plane of incidence (`brdf-sls polar`, Figure 18).
 
 pub mod instance;
 pub mod machine;

@@ -45,6 +45,10 @@ enum Command {
     Eval(EvalArgs),
     /// Summarise a data set: count, value range, angle coverage, what the filters dropped.
     Info(InfoArgs),
+    /// Render a BRDF on a flat square lit by a point light to a PNG (the paper's Figures 8, 12).
+    Render(RenderArgs),
+    /// Polar plots of measured data and fitted models in the plane of incidence (Figure 18).
+    Polar(PolarArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -377,6 +381,8 @@ fn main() {
         Command::Gen(a) => cmd_gen(a),
         Command::Eval(a) => cmd_eval(a),
         Command::Info(a) => cmd_info(a),
+        Command::Render(a) => cmd_render(a),
+        Command::Polar(a) => cmd_polar(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
@@ -700,6 +706,652 @@ fn cmd_info(a: InfoArgs) -> Result<()> {
         println!(
             "{name}: theta {tmin:.1}..{tmax:.1} deg, phi {pmin:.1}..{pmax:.1} deg; theta histogram (10-degree bins): {bins:?}"
         );
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// `render` and `polar`: the paper's Figures 8, 12 (renderings) and 18 (polar plots).
+// ---------------------------------------------------------------------------------------------
+
+/// Three comma-separated numbers (a point or a colour) as a command-line value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Triple([f64; 3]);
+
+impl std::str::FromStr for Triple {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let parts: Vec<&str> = s.split(',').collect();
+        let expected = || format!("expected three comma-separated numbers X,Y,Z, got `{s}`");
+        if parts.len() != 3 {
+            return Err(expected());
+        }
+        let mut v = [0.0; 3];
+        for (slot, p) in v.iter_mut().zip(&parts) {
+            *slot = p.trim().parse::<f64>().map_err(|_| expected())?;
+        }
+        Ok(Triple(v))
+    }
+}
+
+impl std::fmt::Display for Triple {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{},{}", self.0[0], self.0[1], self.0[2])
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ToneMapArg {
+    /// min(x, 1): linear up to white, brighter values clip.
+    Clamp,
+    /// x / (1 + x): never saturates, compresses highlights.
+    Reinhard,
+}
+
+/// Arguments of `brdf-sls render`. Defaults are those of `harness::render::RenderOptions`
+/// (a view chosen to show the anisotropic highlights of the `tuning` and `cross` BRDFs).
+#[derive(Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    params: ParamArgs,
+    /// Output PNG file (parent directories are created).
+    #[arg(long, short, default_value = "render.png")]
+    out: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = harness::render::RenderOptions::default().width)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = harness::render::RenderOptions::default().height)]
+    height: u32,
+    /// Supersamples per pixel along each axis (S*S per pixel), 1 to 16.
+    #[arg(long, value_name = "S", default_value_t = harness::render::RenderOptions::default().supersampling)]
+    supersampling: u32,
+    /// Point light position X,Y,Z. The surface is the square |x|, |y| <= --half-size in the
+    /// z = 0 plane (normal +z, the BRDF's x axis along world x); the light must have Z > 0.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true,
+          default_value_t = Triple(harness::render::RenderOptions::default().light))]
+    light: Triple,
+    /// Light intensity (>= 0; the image scales linearly with it).
+    #[arg(long, allow_hyphen_values = true,
+          default_value_t = harness::render::RenderOptions::default().intensity)]
+    intensity: f64,
+    /// Camera (pinhole) position X,Y,Z, above the surface (Z > 0).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true,
+          default_value_t = Triple(harness::render::RenderOptions::default().camera))]
+    camera: Triple,
+    /// Point the camera looks at.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true,
+          default_value_t = Triple(harness::render::RenderOptions::default().look_at))]
+    look_at: Triple,
+    /// Vertical field of view in degrees, in (0, 180).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true,
+          default_value_t = harness::render::RenderOptions::default().fov_deg)]
+    fov: f64,
+    /// Half the side of the square surface (> 0).
+    #[arg(long, allow_hyphen_values = true,
+          default_value_t = harness::render::RenderOptions::default().plane_half_size)]
+    half_size: f64,
+    /// Multiplier of the linear radiance before tone mapping (> 0).
+    #[arg(long, allow_hyphen_values = true,
+          default_value_t = harness::render::RenderOptions::default().exposure)]
+    exposure: f64,
+    /// Tone mapping.
+    #[arg(long, value_enum, default_value = "clamp")]
+    tone_map: ToneMapArg,
+    /// Surface colour R,G,B (linear, multiplies the radiance; each >= 0).
+    #[arg(long, value_name = "R,G,B", allow_hyphen_values = true,
+          default_value_t = Triple(harness::render::RenderOptions::default().tint))]
+    tint: Triple,
+}
+
+impl RenderArgs {
+    fn options(&self) -> harness::render::RenderOptions {
+        harness::render::RenderOptions {
+            width: self.width,
+            height: self.height,
+            supersampling: self.supersampling,
+            camera: self.camera.0,
+            look_at: self.look_at.0,
+            fov_deg: self.fov,
+            light: self.light.0,
+            intensity: self.intensity,
+            plane_half_size: self.half_size,
+            exposure: self.exposure,
+            tone_map: match self.tone_map {
+                ToneMapArg::Clamp => harness::render::ToneMap::Clamp,
+                ToneMapArg::Reinhard => harness::render::ToneMap::Reinhard,
+            },
+            tint: self.tint.0,
+            ..harness::render::RenderOptions::default()
+        }
+    }
+}
+
+/// Turns a renderer error into one naming the command-line flag: the library's messages name
+/// the `RenderOptions` field they are about, first.
+fn render_error(e: harness::render::RenderError) -> anyhow::Error {
+    use harness::render::RenderError;
+    const FLAGS: [(&str, &str); 11] = [
+        ("width", "--width/--height"),
+        ("supersampling", "--supersampling"),
+        ("camera", "--camera"),
+        ("light", "--light"),
+        ("look_at", "--look-at"),
+        ("fov_deg", "--fov"),
+        ("intensity", "--intensity"),
+        ("plane_half_size", "--half-size"),
+        ("exposure", "--exposure"),
+        ("tint", "--tint"),
+        ("degenerate camera", "--camera/--look-at"),
+    ];
+    match e {
+        RenderError::InvalidOption(m) => match FLAGS.iter().find(|(k, _)| m.starts_with(k)) {
+            Some((_, flag)) => anyhow::anyhow!("{flag}: {m}"),
+            None => anyhow::anyhow!("invalid render option: {m}"),
+        },
+        other => other.into(),
+    }
+}
+
+fn cmd_render(a: RenderArgs) -> Result<()> {
+    let params = a.params.params()?;
+    if !a
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        bail!(
+            "--out {}: the renderer writes PNG; give a file name ending in .png",
+            a.out.display()
+        );
+    }
+    let opts = a.options();
+    opts.validate().map_err(render_error)?;
+    let img = harness::render::render_png(&params, &opts, &a.out).map_err(render_error)?;
+    // Exposure diagnostics: how much of the surface is burnt out (clamp) helps choose
+    // --exposure/--intensity without guessing.
+    let gain = opts.exposure * opts.tint.iter().copied().fold(0.0, f64::max);
+    let covered: Vec<usize> = (0..img.radiance.len())
+        .filter(|&i| img.coverage[i] > 0.0)
+        .collect();
+    let clipped = covered
+        .iter()
+        .filter(|&&i| img.radiance[i] * gain >= 1.0)
+        .count();
+    let (_, _, peak) = img.brightest();
+    let clip_note = match opts.tone_map {
+        harness::render::ToneMap::Clamp if !covered.is_empty() => format!(
+            "; {:.1}% of the surface clipped at white",
+            100.0 * clipped as f64 / covered.len() as f64
+        ),
+        _ => String::new(),
+    };
+    println!(
+        "wrote {} ({}x{}): peak radiance {peak:.4}, x exposure {} = {:.4}{clip_note}",
+        a.out.display(),
+        img.width,
+        img.height,
+        opts.exposure,
+        peak * opts.exposure,
+    );
+    Ok(())
+}
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+enum ImageFormatArg {
+    Png,
+    Svg,
+}
+
+/// Arguments of `brdf-sls polar`.
+#[derive(Args)]
+struct PolarArgs {
+    #[command(flatten)]
+    data: DataArgs,
+    /// A model to overlay: LABEL=PARAMS, PARAMS a name (tuning, cross, paper-bluepaint,
+    /// pbrt-bluepaint), JSON as printed on the `json:` line of `brdf-sls fit`, or @FILE holding
+    /// such JSON; repeatable. Without `LABEL=` the name (or "fit N") labels it.
+    #[arg(long = "fit", value_name = "LABEL=PARAMS")]
+    fits: Vec<String>,
+    /// Also overlay the best trial (lowest RMSE) of --config from the results of `brdf-sls run`
+    /// (a results directory or its trials.jsonl).
+    #[arg(long, value_name = "DIR", requires = "config")]
+    from_results: Option<PathBuf>,
+    /// Configuration label for --from-results, e.g. "AED phi=1.2".
+    #[arg(long, value_name = "LABEL", requires = "from_results")]
+    config: Option<String>,
+    /// Instance for --from-results (default: the experiment's only instance).
+    #[arg(long, value_name = "NAME", requires = "from_results")]
+    instance: Option<String>,
+    /// Incident angles in degrees, one panel each, e.g. 10,40,70 (default: three spread over
+    /// the angles the data has in-plane samples at, avoiding grazing angles).
+    #[arg(
+        long,
+        value_name = "DEG,...",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    incident: Vec<f64>,
+    /// Output base: writes BASE.png and/or BASE.svg (an extension of BASE is replaced).
+    #[arg(long, short, value_name = "BASE", default_value = "polar")]
+    out: PathBuf,
+    /// Formats to write, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values = ["png", "svg"])]
+    formats: Vec<ImageFormatArg>,
+    /// Radius of each panel (linear in the BRDF value): `auto` (everything drawn fits),
+    /// `measured:K` (K times the panel's largest measured value; model curves beyond it are
+    /// cut at the rim) or a number (a fixed radius).
+    #[arg(long, default_value = "auto")]
+    radius: String,
+    /// Use one radius for all panels (the largest) instead of one per panel.
+    #[arg(long)]
+    shared_radius: bool,
+    /// Title (default: the data file, wavelength and filter).
+    #[arg(long)]
+    title: Option<String>,
+    /// Legend text of the measured data (default: "measured (FILE NAME)").
+    #[arg(long)]
+    data_label: Option<String>,
+    /// Also show the samples --max-value drops (hollow circles; values beyond the rim sit on it
+    /// with their value printed), to see what the fits never saw.
+    #[arg(long, requires = "max_value")]
+    show_dropped: bool,
+    /// Azimuth of the plane of incidence in degrees (0 for Cornell data).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true,
+          default_value_t = harness::polar::SliceSelection::default().phi_i_deg)]
+    phi_i: f64,
+    /// Largest angle in degrees between a sample's incident direction and a panel's.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true,
+          default_value_t = harness::polar::SliceSelection::default().incident_tol_deg)]
+    incident_tol: f64,
+    /// Largest angle in degrees between a sample's exitant direction and the plane.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true,
+          default_value_t = harness::polar::SliceSelection::default().plane_tol_deg)]
+    plane_tol: f64,
+}
+
+/// Curve colours in order: red and black first, as the paper's Figure 18 (measured data is
+/// blue), then colours that stay apart from those.
+const CURVE_COLORS: [(u8, u8, u8); 6] = [
+    (214, 39, 40),
+    (0, 0, 0),
+    (44, 160, 44),
+    (255, 127, 14),
+    (148, 103, 189),
+    (140, 86, 75),
+];
+
+fn parse_radius(s: &str) -> Result<harness::polar::RadiusScale> {
+    use harness::polar::RadiusScale;
+    let bad = || {
+        anyhow::anyhow!(
+            "--radius `{s}`: expected `auto`, `measured:K` (K > 0) or a positive number"
+        )
+    };
+    let positive = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+    };
+    let s = s.trim();
+    if s.eq_ignore_ascii_case("auto") {
+        Ok(RadiusScale::Auto)
+    } else if let Some(k) = s.strip_prefix("measured:") {
+        positive(k).map(RadiusScale::Measured).ok_or_else(bad)
+    } else {
+        positive(s).map(RadiusScale::Fixed).ok_or_else(bad)
+    }
+}
+
+/// Parses one `--fit LABEL=PARAMS` (the label is optional; `index` numbers unlabelled JSON).
+fn parse_fit(s: &str, index: usize) -> Result<(String, BrdfParams)> {
+    // JSON holds no `=` before its `{`, a label no `{`: split at an `=` before any brace.
+    let (label, p) = match s.split_once('=') {
+        Some((l, p)) if !l.contains('{') => (l.trim().to_string(), p.trim()),
+        _ => (String::new(), s.trim()),
+    };
+    let params = if let Some(n) = brdf_model::named_params(p) {
+        n
+    } else if let Some(file) = p.strip_prefix('@') {
+        let text = std::fs::read_to_string(file)
+            .with_context(|| format!("--fit `{s}`: reading parameters from {file}"))?;
+        serde_json::from_str::<BrdfParams>(text.trim()).with_context(|| {
+            format!(
+                "--fit `{s}`: {file} does not hold JSON parameters as printed by `brdf-sls fit`"
+            )
+        })?
+    } else {
+        serde_json::from_str::<BrdfParams>(p).with_context(|| {
+            format!(
+                "--fit `{s}`: expected LABEL=PARAMS with PARAMS a known name ({}) or JSON \
+                 parameters as printed by `brdf-sls fit`",
+                brdf_model::NAMED_PARAMS.join(", ")
+            )
+        })?
+    };
+    let label = if !label.is_empty() {
+        label
+    } else if brdf_model::named_params(p).is_some() || p.starts_with('@') {
+        p.trim_start_matches('@').to_string()
+    } else {
+        format!("fit {index}")
+    };
+    Ok((label, params))
+}
+
+/// The best trial (lowest final RMSE) of configuration `config` on `instance` in a results
+/// directory (or trials.jsonl), decoded with the instance's model layout from the stored spec.
+/// Returns a label for it and the parameters.
+fn best_from_results(
+    target: &Path,
+    config: &str,
+    instance: Option<&str>,
+) -> Result<(String, BrdfParams)> {
+    if !target.exists() {
+        bail!(
+            "--from-results {}: no such results directory or trials.jsonl file",
+            target.display()
+        );
+    }
+    let dir = if target.is_dir() {
+        target.to_path_buf()
+    } else {
+        // A trials.jsonl file: its directory holds the results.
+        match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        }
+    };
+    let contents = read_results(&dir)
+        .with_context(|| format!("--from-results: reading results in {}", dir.display()))?;
+    if contents.header.spec_text.is_empty() {
+        bail!(
+            "--from-results {}: the header holds no spec text, so the model layout is unknown",
+            dir.display()
+        );
+    }
+    let spec = Spec::parse(
+        &contents.header.spec_text,
+        &format!("{} (stored spec)", dir.display()),
+        &contents.header.experiment,
+        &dir,
+    )?;
+    let names = || {
+        spec.instances
+            .iter()
+            .map(|i| i.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let inst = match instance {
+        Some(n) => spec
+            .instances
+            .iter()
+            .find(|i| i.name == n)
+            .with_context(|| format!("--instance `{n}`: not in the experiment ({})", names()))?,
+        None if spec.instances.len() == 1 => &spec.instances[0],
+        None => bail!(
+            "--from-results: the experiment has {} instances; choose one with --instance ({})",
+            spec.instances.len(),
+            names()
+        ),
+    };
+    if !spec.configurations.iter().any(|c| c.label == config) {
+        let labels: Vec<&str> = spec
+            .configurations
+            .iter()
+            .map(|c| c.label.as_str())
+            .collect();
+        bail!(
+            "--config `{config}`: not in the experiment (configurations: {})",
+            labels.join(", ")
+        );
+    }
+    let best = contents
+        .records
+        .iter()
+        .filter(|r| r.instance == inst.name && r.config == config)
+        .filter(|r| r.result.best_rmse.is_finite() && !r.result.best_x.is_empty())
+        .min_by(|a, b| a.result.best_rmse.total_cmp(&b.result.best_rmse))
+        .with_context(|| {
+            format!(
+                "--from-results {}: no finished trial of `{config}` on `{}`",
+                dir.display(),
+                inst.name
+            )
+        })?;
+    let layout = inst
+        .model
+        .layout()
+        .with_context(|| format!("instance `{}`: model", inst.name))?;
+    if best.result.best_x.len() != layout.dim() {
+        bail!(
+            "--from-results: trial {} stores {} parameters, the model of `{}` has {}",
+            best.key,
+            best.result.best_x.len(),
+            inst.name,
+            layout.dim()
+        );
+    }
+    let label = format!(
+        "{config} best of {} (trial {})",
+        contents
+            .records
+            .iter()
+            .filter(|r| r.instance == inst.name && r.config == config)
+            .count(),
+        best.trial
+    );
+    Ok((label, layout.decode(&best.result.best_x)))
+}
+
+/// Root-mean-square error of `params` on `data` (as `eval` reports, without a layout so any
+/// lobe count works).
+fn params_rmse(params: &BrdfParams, data: &DataSet) -> f64 {
+    if data.is_empty() {
+        return 0.0;
+    }
+    let ss: f64 = (0..data.len())
+        .map(|i| {
+            let r = params.value(data.u(i), data.v(i)) - data.value(i);
+            r * r
+        })
+        .sum();
+    (ss / data.len() as f64).sqrt()
+}
+
+fn cmd_polar(a: PolarArgs) -> Result<()> {
+    use harness::polar::{
+        PolarCurve, PolarMeasured, PolarPlot, SliceSelection, default_incident_angles, draw_polar,
+        incident_angles, select_in_plane,
+    };
+    use plotters::style::RGBColor;
+
+    for (flag, v, hi) in [
+        ("--incident-tol", a.incident_tol, 90.0),
+        ("--plane-tol", a.plane_tol, 90.0),
+        ("--phi-i", a.phi_i, 360.0),
+    ] {
+        if !(v.is_finite() && v.abs() <= hi && (flag == "--phi-i" || v >= 0.0)) {
+            bail!(
+                "{flag} {v}: expected degrees in {}",
+                if flag == "--phi-i" {
+                    "[-360, 360]"
+                } else {
+                    "[0, 90]"
+                }
+            );
+        }
+    }
+    let radius = parse_radius(&a.radius)?;
+    let (data, rep) = a.data.load()?;
+    if data.is_empty() {
+        bail!(
+            "{}: no samples left after filtering ({rep})",
+            a.data.data.display()
+        );
+    }
+    eprintln!("{}: {} samples ({rep})", a.data.data.display(), data.len());
+    let sel = SliceSelection {
+        phi_i_deg: a.phi_i,
+        incident_tol_deg: a.incident_tol,
+        plane_tol_deg: a.plane_tol,
+    };
+    let available = incident_angles(&data, &sel);
+    let list = |v: &[(f64, usize)]| {
+        const SHOWN: usize = 24;
+        let mut s: Vec<String> = v.iter().take(SHOWN).map(|a| format!("{}", a.0)).collect();
+        if v.len() > SHOWN {
+            s.push(format!("... ({} in all)", v.len()));
+        }
+        if s.is_empty() {
+            "none".into()
+        } else {
+            s.join(", ")
+        }
+    };
+    let incident = if a.incident.is_empty() {
+        let d = default_incident_angles(&available, 3);
+        if d.is_empty() {
+            bail!(
+                "{}: no sample has both directions within {} degrees of the plane of incidence \
+                 (azimuth {}); widen --plane-tol or give --incident",
+                a.data.data.display(),
+                sel.plane_tol_deg,
+                sel.phi_i_deg
+            );
+        }
+        d
+    } else {
+        a.incident.clone()
+    };
+    for &t in &incident {
+        if !(t.is_finite() && (0.0..90.0).contains(&t)) {
+            bail!("--incident {t}: incident angles must be in [0, 90) degrees");
+        }
+        if select_in_plane(&data, t, &sel).is_empty() {
+            bail!(
+                "--incident {t}: {} has no in-plane samples within {} degrees of that incident \
+                 angle (and {} degrees of the plane); in-plane incident angles available: {} \
+                 (or widen --incident-tol/--plane-tol)",
+                a.data.data.display(),
+                sel.incident_tol_deg,
+                sel.plane_tol_deg,
+                list(&available)
+            );
+        }
+    }
+
+    let mut fits = Vec::new();
+    for (k, f) in a.fits.iter().enumerate() {
+        fits.push(parse_fit(f, k + 1)?);
+    }
+    if let (Some(dir), Some(config)) = (&a.from_results, &a.config) {
+        fits.push(best_from_results(dir, config, a.instance.as_deref())?);
+    }
+    if fits.len() > CURVE_COLORS.len() {
+        bail!(
+            "at most {} models per plot (--fit and --from-results), got {}",
+            CURVE_COLORS.len(),
+            fits.len()
+        );
+    }
+    let mut curves = Vec::new();
+    for (k, (label, params)) in fits.into_iter().enumerate() {
+        let rmse = params_rmse(&params, &data);
+        println!(
+            "{label}: RMSE {rmse:.6} on {} samples; json: {}",
+            data.len(),
+            serde_json::to_string(&params)?
+        );
+        let (r, g, b) = CURVE_COLORS[k];
+        curves.push(PolarCurve {
+            label: format!("{label} (RMSE {rmse:.4})"),
+            params,
+            color: RGBColor(r, g, b),
+            dashed: false,
+        });
+    }
+
+    let file_name = a
+        .data
+        .data
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let is_cornell = match a.data.format {
+        Some(f) => matches!(f, FormatArg::Cornell),
+        None => DataFormat::from_path(&a.data.data) == Some(DataFormat::Cornell),
+    };
+    let title = a.title.clone().unwrap_or_else(|| {
+        let mut t = file_name.clone();
+        if is_cornell {
+            t.push_str(&format!(" at {} nm", a.data.wavelength));
+        }
+        if let Some(m) = a.data.max_value {
+            t.push_str(&format!(", values > {m} dropped"));
+        }
+        t.push_str(": BRDF in the plane of incidence");
+        t
+    });
+    let data_label = a
+        .data_label
+        .clone()
+        .unwrap_or_else(|| format!("measured ({file_name})"));
+    // The samples the value cap removed: the same file read without the cap, kept above it.
+    let dropped = match (a.show_dropped, a.data.max_value) {
+        (true, Some(cap)) => {
+            let mut uncapped = a.data.clone();
+            uncapped.max_value = None;
+            let (raw, _) = uncapped.load()?;
+            let mut d = DataSet::new();
+            for i in (0..raw.len()).filter(|&i| raw.value(i) > cap) {
+                d.push(raw.u(i), raw.v(i), raw.value(i));
+            }
+            Some((d, format!("dropped (values > {cap})")))
+        }
+        _ => None,
+    };
+    const MEASURED_COLOR: RGBColor = RGBColor(31, 119, 180);
+    let mut plot = PolarPlot::new(title, incident.clone());
+    plot.selection = sel;
+    plot.measured = Some(PolarMeasured {
+        label: &data_label,
+        data: &data,
+        color: MEASURED_COLOR,
+    });
+    plot.dropped = dropped.as_ref().map(|(d, label)| PolarMeasured {
+        label,
+        data: d,
+        color: MEASURED_COLOR,
+    });
+    plot.curves = curves;
+    plot.radius = radius;
+    plot.shared_radius = a.shared_radius;
+    let mut formats = Vec::new();
+    for f in &a.formats {
+        let f = match f {
+            ImageFormatArg::Png => harness::spec::PlotFormat::Png,
+            ImageFormatArg::Svg => harness::spec::PlotFormat::Svg,
+        };
+        if !formats.contains(&f) {
+            formats.push(f);
+        }
+    }
+    for p in harness::polar::polar_panels(&plot) {
+        eprintln!(
+            "incident {}: {} measured in-plane samples ({} dropped), radius {}",
+            p.theta_i_deg,
+            p.measured.len(),
+            p.dropped.len(),
+            harness::plot::tick(p.r_max)
+        );
+    }
+    let files = draw_polar(&plot, &a.out, &formats)?;
+    for f in files {
+        println!("wrote {}", f.display());
     }
     Ok(())
 }

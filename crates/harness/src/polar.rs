@@ -17,7 +17,8 @@
 //! plane (`phi_s` = 0 or 180 degrees, `theta_s` = 0, 8.1, 16.3, ..., 79 degrees); the
 //! paper's angles 0/35/65 are not measured there ([`incident_angles`] lists what is).
 //!
-//! API: [`SliceSelection`], [`select_in_plane`], [`incident_angles`], [`model_slice`],
+//! API: [`SliceSelection`], [`select_in_plane`], [`incident_angles`],
+//! [`default_incident_angles`], [`model_slice`],
 //! [`PolarPlot`] (with [`PolarMeasured`], [`PolarCurve`], [`RadiusScale`]), [`polar_panels`]
 //! (the numbers behind the plot) and [`draw_polar`] (PNG and/or SVG).
 
@@ -170,6 +171,41 @@ pub fn incident_angles(data: &DataSet, sel: &SliceSelection) -> Vec<(f64, usize)
         .collect()
 }
 
+/// Incident angles at or above this are grazing: measurements there are least reliable (the
+/// paper's Figure 18 stops at 65 degrees), so [`default_incident_angles`] avoids them.
+pub const GRAZING_DEG: f64 = 75.0;
+
+/// Up to `count` incident angles spread evenly (first, last and evenly in between) over the
+/// `available` ones (as returned by [`incident_angles`]), for a plot's default panels.
+///
+/// Angles with fewer than 3 in-plane samples are ignored when others have more (a panel of one
+/// dot says little; scattered data has many such angles), and grazing angles (at or above
+/// [`GRAZING_DEG`]) are used only, least grazing first, when fewer than `count` others exist.
+/// Cornell data (10, 20, ..., 80 degrees) gives 10, 40 and 70 for `count = 3`. Empty when
+/// `available` is.
+pub fn default_incident_angles(available: &[(f64, usize)], count: usize) -> Vec<f64> {
+    let mut cand: Vec<f64> = available.iter().filter(|a| a.1 >= 3).map(|a| a.0).collect();
+    if cand.is_empty() {
+        cand = available.iter().map(|a| a.0).collect();
+    }
+    let (mut below, grazing): (Vec<f64>, Vec<f64>) =
+        cand.into_iter().partition(|t| *t < GRAZING_DEG);
+    if below.len() < count {
+        // Too few: complete with the least grazing angles (`available` is ascending).
+        below.extend(grazing.into_iter().take(count - below.len()));
+    }
+    let cand = below;
+    if cand.len() <= count || count < 2 {
+        return cand.into_iter().take(count).collect();
+    }
+    let last = (cand.len() - 1) as f64;
+    let mut out: Vec<f64> = (0..count)
+        .map(|k| cand[(k as f64 * last / (count - 1) as f64).round() as usize])
+        .collect();
+    out.dedup();
+    out
+}
+
 /// The model's values in the plane of incidence at `theta_i_deg`: `steps` points (at least 2)
 /// `(theta_o_deg, f)` evenly spaced from -90 to +90 degrees (signed as in the module docs).
 /// Non-finite values (overflowing lobes) are returned as they are; plots skip them.
@@ -237,7 +273,11 @@ pub struct PolarPlot<'a> {
     pub selection: SliceSelection,
     /// Measured data, if any.
     pub measured: Option<PolarMeasured<'a>>,
-    /// Model curves.
+    /// Measured samples a filter removed before fitting (e.g. values above a cap), if any:
+    /// drawn as hollow circles so the reader sees what the fits never saw. They never set the
+    /// radius; those beyond the rim sit on it, labelled with their value.
+    pub dropped: Option<PolarMeasured<'a>>,
+    /// Model curves (the first is drawn on top).
     pub curves: Vec<PolarCurve>,
     /// Radius scaling.
     pub radius: RadiusScale,
@@ -256,6 +296,7 @@ impl<'a> PolarPlot<'a> {
             incident_deg,
             selection: SliceSelection::default(),
             measured: None,
+            dropped: None,
             curves: Vec::new(),
             radius: RadiusScale::Auto,
             shared_radius: false,
@@ -271,6 +312,8 @@ pub struct PolarPanel {
     pub theta_i_deg: f64,
     /// Measured samples in the plane (empty without measured data).
     pub measured: Vec<InPlaneSample>,
+    /// Dropped samples in the plane (empty without [`PolarPlot::dropped`]).
+    pub dropped: Vec<InPlaneSample>,
     /// One [`model_slice`] per curve, in the order of [`PolarPlot::curves`].
     pub curves: Vec<Vec<(f64, f64)>>,
     /// Radius of the outer ring.
@@ -288,6 +331,10 @@ pub fn polar_panels(plot: &PolarPlot) -> Vec<PolarPanel> {
         .map(|&ti| {
             let measured = plot
                 .measured
+                .map(|m| select_in_plane(m.data, ti, &plot.selection))
+                .unwrap_or_default();
+            let dropped = plot
+                .dropped
                 .map(|m| select_in_plane(m.data, ti, &plot.selection))
                 .unwrap_or_default();
             let curves: Vec<Vec<(f64, f64)>> = plot
@@ -308,6 +355,7 @@ pub fn polar_panels(plot: &PolarPlot) -> Vec<PolarPanel> {
             PolarPanel {
                 theta_i_deg: ti,
                 measured,
+                dropped,
                 curves,
                 r_max: if r > 0.0 && r.is_finite() { r } else { 1.0 },
             }
@@ -361,8 +409,10 @@ pub fn draw_polar(
     let n = panels.len().max(1);
     let cols = n.min(3) as u32;
     let rows = n.div_ceil(3) as u32;
+    // Widen the figure (panels share the extra width) when the title or legend would not fit
+    // above or below the panels, e.g. one panel with several labelled curves.
     let size = (
-        cols * plot.panel_size.0,
+        (cols * plot.panel_size.0).max(min_figure_width(plot)),
         TITLE_H + rows * plot.panel_size.1 + LEGEND_H,
     );
     if let Some(dir) = base.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -421,6 +471,34 @@ pub fn draw_polar(
     }
     Ok(written)
 }
+
+/// Width in pixels of `text` in the sans-serif font at `size` points (a rough estimate when
+/// the font cannot measure it).
+fn text_width(text: &str, size: f64) -> u32 {
+    ("sans-serif", size)
+        .into_font()
+        .box_size(text)
+        .map(|(w, _)| w)
+        .unwrap_or_else(|_| (text.chars().count() as f64 * size * 0.6) as u32)
+}
+
+/// The narrowest figure that holds the title, the legend row and the note under it (the
+/// layout of [`draw_figure`] and [`draw_legend`]).
+fn min_figure_width(plot: &PolarPlot) -> u32 {
+    let title = text_width(&plot.title, 22.0) + 40;
+    let entries = plot
+        .measured
+        .iter()
+        .chain(plot.dropped.iter())
+        .map(|m| m.label)
+        .chain(plot.curves.iter().map(|c| c.label.as_str()));
+    let legend = 20 + entries.map(|l| 26 + text_width(l, 15.0) + 36).sum::<u32>();
+    let note = text_width(LEGEND_NOTE, 11.0) + 40;
+    title.max(legend).max(note)
+}
+
+/// The explanation under the legend.
+const LEGEND_NOTE: &str = "radius: BRDF value; angle: exitant direction from the normal (+ = forward side); dashed grey: incident direction";
 
 /// Height in pixels of the title strip.
 const TITLE_H: u32 = 44;
@@ -488,11 +566,20 @@ fn draw_panel<DB: DrawingBackend>(
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let area = area
         .titled(
-            &format!(
-                "incident {:.0}° ({} measured)",
-                panel.theta_i_deg,
-                panel.measured.len()
-            ),
+            &if panel.dropped.is_empty() {
+                format!(
+                    "incident {:.0}° ({} measured)",
+                    panel.theta_i_deg,
+                    panel.measured.len()
+                )
+            } else {
+                format!(
+                    "incident {:.0}° ({} measured, {} dropped)",
+                    panel.theta_i_deg,
+                    panel.measured.len(),
+                    panel.dropped.len()
+                )
+            },
             ("sans-serif", 17),
         )
         .map_err(e)?
@@ -583,7 +670,8 @@ fn draw_panel<DB: DrawingBackend>(
         ))
         .map_err(e)?;
     // Model curves, cut where they leave the disc so a clipped overshoot is visible as a gap.
-    for (curve, pts) in plot.curves.iter().zip(&panel.curves) {
+    // In reverse so the first curve (the legend's first) ends up on top where curves overlap.
+    for (curve, pts) in plot.curves.iter().zip(&panel.curves).rev() {
         let style = curve.color.stroke_width(2);
         let mut segment: Vec<(f64, f64)> = Vec::new();
         let mut segments = Vec::new();
@@ -629,6 +717,40 @@ fn draw_panel<DB: DrawingBackend>(
             }))
             .map_err(e)?;
     }
+    // Dropped samples: hollow, larger than the measured dots so both show where they meet;
+    // beyond the rim they sit on it with their value just outside (they can be far larger
+    // than everything fitted, so scaling the panel to them would flatten the rest).
+    if let Some(m) = plot.dropped {
+        chart
+            .draw_series(panel.dropped.iter().map(|s| {
+                Circle::new(
+                    polar(s.theta_o_deg, s.value.clamp(0.0, r)),
+                    5,
+                    m.color.stroke_width(2),
+                )
+            }))
+            .map_err(e)?;
+        for s in panel.dropped.iter().filter(|s| s.value > r) {
+            let (x, y) = polar(s.theta_o_deg, r * 1.04);
+            let hpos = if s.theta_o_deg < -1.0 {
+                HPos::Right
+            } else if s.theta_o_deg > 1.0 {
+                HPos::Left
+            } else {
+                HPos::Center
+            };
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    crate::plot::tick(s.value),
+                    (x, y),
+                    ("sans-serif", 12)
+                        .into_font()
+                        .color(&m.color)
+                        .pos(text_pos(hpos, VPos::Center)),
+                )))
+                .map_err(e)?;
+        }
+    }
     Ok(())
 }
 
@@ -659,6 +781,13 @@ fn draw_legend<DB: DrawingBackend>(
             .map_err(e)?;
         x += advance(m.label);
     }
+    if let Some(m) = plot.dropped {
+        area.draw(&Circle::new((x + 10, y), 5, m.color.stroke_width(2)))
+            .map_err(e)?;
+        area.draw(&Text::new(m.label, (x + 26, y), font.clone()))
+            .map_err(e)?;
+        x += advance(m.label);
+    }
     for c in &plot.curves {
         let style = c.color.stroke_width(2);
         if c.dashed {
@@ -674,9 +803,8 @@ fn draw_legend<DB: DrawingBackend>(
             .map_err(e)?;
         x += advance(&c.label);
     }
-    let note = "radius: BRDF value; angle: exitant direction from the normal (+ = forward side); dashed grey: incident direction";
     area.draw(&Text::new(
-        note,
+        LEGEND_NOTE,
         (20, y + 16),
         ("sans-serif", 11)
             .into_font()
@@ -760,6 +888,28 @@ mod tests {
     }
 
     #[test]
+    fn default_angles_spread_over_the_data() {
+        let cornell: Vec<(f64, usize)> = (1..=8).map(|k| (10.0 * k as f64, 15)).collect();
+        assert_eq!(default_incident_angles(&cornell, 3), vec![10.0, 40.0, 70.0]);
+        assert_eq!(default_incident_angles(&cornell, 1), vec![10.0]);
+        // Too few non-grazing angles: grazing ones are used rather than fewer panels.
+        let few = [(30.0, 5), (70.0, 5), (80.0, 5)];
+        assert_eq!(default_incident_angles(&few, 3), vec![30.0, 70.0, 80.0]);
+        assert_eq!(default_incident_angles(&few, 2), vec![30.0, 70.0]);
+        // Angles with one or two samples only count when nothing better exists.
+        let sparse = [(5.0, 1), (20.0, 9), (21.0, 1), (50.0, 4)];
+        assert_eq!(default_incident_angles(&sparse, 3), vec![20.0, 50.0]);
+        let scattered = [(12.3, 1), (47.9, 1)];
+        assert_eq!(default_incident_angles(&scattered, 3), vec![12.3, 47.9]);
+        let sparse_grazing = [(20.4, 1), (43.1, 1), (76.9, 1), (89.7, 1)];
+        assert_eq!(
+            default_incident_angles(&sparse_grazing, 3),
+            vec![20.4, 43.1, 76.9]
+        );
+        assert!(default_incident_angles(&[], 3).is_empty());
+    }
+
+    #[test]
     fn model_slice_peaks_at_the_mirror_direction() {
         let phong = BrdfParams {
             kd: 0.0,
@@ -806,6 +956,13 @@ mod tests {
             color: BLACK,
             dashed: true,
         });
+        let mut over = DataSet::new();
+        over.push(dir(40.0, 0.0), dir(40.0, 180.0), 5.0);
+        plot.dropped = Some(PolarMeasured {
+            label: "dropped",
+            data: &over,
+            color: RGBColor(31, 119, 180),
+        });
         plot.radius = RadiusScale::Measured(1.2);
         let dir = tempfile::tempdir().unwrap();
         let files = draw_polar(
@@ -826,6 +983,9 @@ mod tests {
         bad.incident_deg = vec![10.0];
         bad.panel_size = (0, 0);
         assert!(draw_polar(&bad, &dir.path().join("bad"), &[PlotFormat::Png]).is_err());
+        // Dropped samples are selected per panel but never set the radius.
+        assert_eq!(panels[1].dropped.len(), 1);
+        assert!(panels[0].dropped.is_empty());
         assert!((panels[1].r_max - 1.2 * 0.5).abs() < 1e-12);
         // No measured samples at 70 degrees: the radius comes from the (finite) curves.
         assert!(panels[2].measured.is_empty() && panels[2].r_max.is_finite());

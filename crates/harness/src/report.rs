@@ -5,6 +5,8 @@
 //! - `summary.json`: experiment, fingerprint, machines, trial counts, files written;
 //! - `stats.json`, `stats.csv`: per instance, configuration, target and measure
 //!   ([`crate::stats::ConfigStats`]);
+//! - `finals.csv`: final RMSE (mean, median, min, max) and end time per instance and
+//!   configuration ([`crate::stats::FinalQuality`], the paper's Table 5);
 //! - `tests.csv`: pairwise Mann-Whitney / KS tests with Holm-adjusted p-values;
 //! - `table.txt`: the table printed at the end of a run;
 //! - `plots/<instance>-<kind>[-<measure>][-q<target>].{png,svg}`.
@@ -92,6 +94,11 @@ pub fn write_report(
     write(
         &out.join("tests.csv"),
         stats::tests_csv(&report).as_bytes(),
+        &mut files,
+    )?;
+    write(
+        &out.join("finals.csv"),
+        stats::finals_csv(&report).as_bytes(),
         &mut files,
     )?;
     write(&out.join("table.txt"), table.as_bytes(), &mut files)?;

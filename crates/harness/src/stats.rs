@@ -412,6 +412,102 @@ pub struct StatsReport {
     pub configs: Vec<ConfigStats>,
     /// Pairwise tests.
     pub tests: Vec<PairTest>,
+    /// Final solution quality per instance and configuration (the paper's Table 5).
+    #[serde(default)]
+    pub finals: Vec<FinalQuality>,
+}
+
+/// The distribution of the best full-data RMSE at the end of each trial, and of the CPU time
+/// at which trials ended, for one (instance, configuration). This is what the paper's Table 5
+/// reports for DS, whose trials end by themselves (RTOL) rather than on the target.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FinalQuality {
+    /// Instance name.
+    pub instance: String,
+    /// Configuration label.
+    pub config: String,
+    /// Trials.
+    pub trials: usize,
+    /// Mean, median, minimum and maximum final RMSE (None without finite values).
+    pub rmse_mean: Option<f64>,
+    /// Median final RMSE.
+    pub rmse_median: Option<f64>,
+    /// Minimum final RMSE.
+    pub rmse_min: Option<f64>,
+    /// Maximum final RMSE.
+    pub rmse_max: Option<f64>,
+    /// Median CPU seconds at which trials ended (target, budget or the algorithm's own stop).
+    pub end_cpu_median: Option<f64>,
+    /// Maximum CPU seconds at which a trial ended.
+    pub end_cpu_max: Option<f64>,
+    /// Trials that ended by themselves (`StopReason::Finished`).
+    pub finished: usize,
+}
+
+/// Final-quality statistics of one group.
+pub fn final_quality(g: &Group<'_>) -> FinalQuality {
+    let mut rmse: Vec<f64> = g
+        .records
+        .iter()
+        .map(|r| r.result.best_rmse)
+        .filter(|x| x.is_finite())
+        .collect();
+    rmse.sort_by(f64::total_cmp);
+    let mut ends: Vec<f64> = g
+        .records
+        .iter()
+        .map(|r| r.result.ended_at.cpu_seconds)
+        .collect();
+    ends.sort_by(f64::total_cmp);
+    let mean = (!rmse.is_empty()).then(|| rmse.iter().sum::<f64>() / rmse.len() as f64);
+    FinalQuality {
+        instance: g.instance.clone(),
+        config: g.config.clone(),
+        trials: g.records.len(),
+        rmse_mean: mean,
+        rmse_median: median_sorted(&rmse),
+        rmse_min: rmse.first().copied(),
+        rmse_max: rmse.last().copied(),
+        end_cpu_median: median_sorted(&ends),
+        end_cpu_max: ends.last().copied(),
+        finished: g
+            .records
+            .iter()
+            .filter(|r| r.result.stop == sls::StopReason::Finished)
+            .count(),
+    }
+}
+
+fn median_sorted(v: &[f64]) -> Option<f64> {
+    match v.len() {
+        0 => None,
+        n if n % 2 == 1 => Some(v[n / 2]),
+        n => Some(0.5 * (v[n / 2 - 1] + v[n / 2])),
+    }
+}
+
+/// The final-quality statistics as CSV (one row per instance and configuration).
+pub fn finals_csv(report: &StatsReport) -> String {
+    let mut s = String::from(
+        "instance,config,trials,finished,rmse_mean,rmse_median,rmse_min,rmse_max,end_cpu_median,end_cpu_max\n",
+    );
+    let f = |v: Option<f64>| v.map_or_else(String::new, |x| format!("{x}"));
+    for q in &report.finals {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{}\n",
+            csv_field(&q.instance),
+            csv_field(&q.config),
+            q.trials,
+            q.finished,
+            f(q.rmse_mean),
+            f(q.rmse_median),
+            f(q.rmse_min),
+            f(q.rmse_max),
+            f(q.end_cpu_median),
+            f(q.end_cpu_max)
+        ));
+    }
+    s
 }
 
 /// A group of trials of one (instance, configuration), sorted by trial index.
@@ -528,6 +624,7 @@ pub fn compute(
         bootstrap: resamples,
         configs,
         tests,
+        finals: groups.iter().map(final_quality).collect(),
     }
 }
 
@@ -691,6 +788,7 @@ pub fn table(report: &StatsReport) -> String {
             fmt_num(c.evaluations.ert),
         ));
     }
+    out.push_str(&finals_table(report, width));
     let sig: Vec<&PairTest> = report
         .tests
         .iter()
@@ -726,6 +824,33 @@ pub fn table(report: &StatsReport) -> String {
     out
 }
 
+fn finals_table(report: &StatsReport, width: usize) -> String {
+    let mut out = String::new();
+    let mut last: Option<&str> = None;
+    for q in &report.finals {
+        if last != Some(q.instance.as_str()) {
+            out.push_str(&format!(
+                "\n{} - final RMSE per trial\n{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+                q.instance, "configuration", "trials", "mean", "median", "min", "max", "median end s", "finished"
+            ));
+            last = Some(q.instance.as_str());
+        }
+        let r = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |x| format!("{x:.6}"));
+        out.push_str(&format!(
+            "{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+            q.config,
+            q.trials,
+            r(q.rmse_mean),
+            r(q.rmse_median),
+            r(q.rmse_min),
+            r(q.rmse_max),
+            fmt_num(q.end_cpu_median),
+            q.finished
+        ));
+    }
+    out
+}
+
 fn fmt_p(p: Option<f64>) -> String {
     match p {
         None => "-".into(),
@@ -752,6 +877,68 @@ mod tests {
             success: None,
             spent: t,
         }
+    }
+
+    fn ended(i: u32, best: f64, cpu: f64, stop: sls::StopReason) -> TrialRecord {
+        let at = sls::Stamp {
+            cpu_seconds: cpu,
+            wall_seconds: cpu,
+            evaluations: sls::EvalCounts::default(),
+        };
+        TrialRecord {
+            key: TrialRecord::make_key("i", "DS", i),
+            instance: "i".into(),
+            config: "DS".into(),
+            trial: i,
+            seed: u64::from(i),
+            target: 0.1,
+            budget: sls::Budget {
+                cpu_seconds: Some(10.0),
+                sample_evaluations: None,
+            },
+            result: sls::TrialResult {
+                stop,
+                reached_at: None,
+                ended_at: at,
+                best_rmse: best,
+                best_x: vec![],
+                trace: vec![],
+                counters: vec![],
+            },
+        }
+    }
+
+    #[test]
+    fn final_quality_hand_computed() {
+        use sls::StopReason::{CpuBudget, Finished};
+        let recs = [
+            ended(0, 0.75, 1.0, Finished),
+            ended(1, 0.25, 4.0, Finished),
+            ended(2, f64::INFINITY, 10.0, CpuBudget),
+            ended(3, 0.5, 2.0, Finished),
+        ];
+        let g = Group {
+            instance: "i".into(),
+            config: "DS".into(),
+            records: recs.iter().collect(),
+        };
+        let q = final_quality(&g);
+        // The trial without a finite RMSE counts as a trial but not in the RMSE statistics.
+        assert_eq!((q.trials, q.finished), (4, 3));
+        assert_eq!(q.rmse_mean, Some(0.5));
+        assert_eq!(q.rmse_median, Some(0.5));
+        assert_eq!((q.rmse_min, q.rmse_max), (Some(0.25), Some(0.75)));
+        assert_eq!(q.end_cpu_median, Some(3.0));
+        assert_eq!(q.end_cpu_max, Some(10.0));
+        let report = StatsReport {
+            bootstrap: 0,
+            configs: vec![],
+            tests: vec![],
+            finals: vec![q],
+        };
+        let csv = finals_csv(&report);
+        assert_eq!(csv.lines().nth(1), Some("i,DS,4,3,0.5,0.5,0.25,0.75,3,10"));
+        assert!(table(&report).contains("final RMSE per trial"));
     }
 
     #[test]

@@ -26,7 +26,7 @@ fn text(o: &Output) -> String {
 fn help_on_every_command() {
     let dir = tempfile::tempdir().unwrap();
     for cmd in [
-        "run", "check", "plot", "stats", "fit", "gen", "eval", "info",
+        "run", "check", "plot", "stats", "fit", "gen", "eval", "info", "render", "polar",
     ] {
         let o = brdf_sls(&[cmd, "--help"], dir.path());
         assert!(o.status.success(), "{cmd}: {}", text(&o));
@@ -165,4 +165,283 @@ fn gen_info_eval_fit() {
     let o = brdf_sls(&["fit", "t.csv", "--set", "phy=1"], dir.path());
     assert!(!o.status.success());
     assert!(text(&o).contains("phy"), "{}", text(&o));
+}
+
+/// The Cornell data shipped with the repository (absolute, so tests can run elsewhere).
+fn cornell(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../../experiments/data/{name}.brdf"))
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Width and height from a PNG's IHDR chunk (which always comes first).
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert!(bytes.len() > 24, "{} bytes", bytes.len());
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    (be(&bytes[16..20]), be(&bytes[20..24]))
+}
+
+fn failed_cleanly(o: &Output) -> String {
+    assert!(!o.status.success(), "{}", text(o));
+    let t = text(o);
+    assert!(!t.contains("panicked"), "{t}");
+    t
+}
+
+#[test]
+fn render_writes_a_png_of_the_requested_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = brdf_sls(
+        &[
+            "render",
+            "--params",
+            "cross",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--supersampling",
+            "1",
+            "--light",
+            "-0.3,0.2,1.5",
+            "--tone-map",
+            "reinhard",
+            "--tint",
+            "1,0.8,0.6",
+            "--out",
+            "sub/cross.png",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("48x32"), "{}", text(&o));
+    let bytes = std::fs::read(dir.path().join("sub/cross.png")).unwrap();
+    assert_eq!(png_size(&bytes), (48, 32));
+
+    // Flags instead of a named set, and the default output name.
+    let o = brdf_sls(
+        &[
+            "render",
+            "--kd",
+            "0.1",
+            "--lobe=-1,1,1,30",
+            "--width",
+            "20",
+            "--height",
+            "20",
+            "--supersampling",
+            "1",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(dir.path().join("render.png")).unwrap();
+    assert_eq!(png_size(&bytes), (20, 20));
+}
+
+#[test]
+fn render_rejects_bad_options_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = ["--width", "8", "--height", "8", "--params", "tuning"];
+    for (extra, flag) in [
+        (&["--fov", "200"][..], "--fov"),
+        (&["--light", "0,0,-1"][..], "--light"),
+        (&["--light", "1,2"][..], "--light"),
+        (
+            &["--camera", "0,0,1", "--look-at", "0,0,1"][..],
+            "--look-at",
+        ),
+        (&["--exposure", "0"][..], "--exposure"),
+        (&["--exposure", "-1"][..], "--exposure"),
+        (&["--intensity", "-2"][..], "--intensity"),
+        (&["--tint", "1,-1,1"][..], "--tint"),
+        (&["--supersampling", "99"][..], "--supersampling"),
+        (&["--half-size", "nan"][..], "--half-size"),
+        (&["--out", "picture.jpg"][..], "--out"),
+    ] {
+        let args: Vec<&str> = std::iter::once("render")
+            .chain(small)
+            .chain(extra.iter().copied())
+            .collect();
+        let o = brdf_sls(&args, dir.path());
+        let t = failed_cleanly(&o);
+        assert!(t.contains(flag), "{extra:?}: {t}");
+    }
+    let o = brdf_sls(
+        &["render", "--width", "0", "--params", "tuning"],
+        dir.path(),
+    );
+    assert!(failed_cleanly(&o).contains("--width"));
+    let o = brdf_sls(&["render", "--params", "nosuch"], dir.path());
+    assert!(failed_cleanly(&o).contains("nosuch"));
+    // Nothing was written by the failed runs.
+    assert!(!dir.path().join("render.png").exists());
+    assert!(!dir.path().join("picture.jpg").exists());
+}
+
+#[test]
+fn polar_writes_png_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = cornell("krylon_blue");
+    let json = r#"{"kd":0.008,"lobes":[{"cx":-1.2,"cy":-1.2,"cz":0.8,"n":10,"pan_deg":0}]}"#;
+    std::fs::write(dir.path().join("fit.json"), json).unwrap();
+    let o = brdf_sls(
+        &[
+            "polar",
+            &data,
+            "--max-value",
+            "1",
+            "--show-dropped",
+            "--incident",
+            "10,70",
+            "--fit",
+            &format!("inline={json}"),
+            "--fit",
+            "from file=@fit.json",
+            "--fit",
+            "paper-bluepaint",
+            "--radius",
+            "measured:1.3",
+            "--out",
+            "figs/k",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("inline: RMSE")
+            && t.contains("from file: RMSE")
+            && t.contains("paper-bluepaint: RMSE"),
+        "{t}"
+    );
+    // The value cap drops the glossy peak at 70 degrees, which --show-dropped reports.
+    assert!(
+        t.contains("incident 70: 13 measured in-plane samples (3 dropped)"),
+        "{t}"
+    );
+    for ext in ["png", "svg"] {
+        let f = dir.path().join(format!("figs/k.{ext}"));
+        assert!(std::fs::metadata(&f).unwrap().len() > 1000, "{f:?}");
+    }
+    let bytes = std::fs::read(dir.path().join("figs/k.png")).unwrap();
+    let (w, h) = png_size(&bytes);
+    assert!(w >= 2 * 540 && h > 340, "{w}x{h}");
+    let svg = std::fs::read_to_string(dir.path().join("figs/k.svg")).unwrap();
+    assert!(
+        svg.contains("incident 70") && svg.contains("from file"),
+        "SVG text"
+    );
+
+    // Defaults: angles the data has (10, 40, 70 for Cornell), one format.
+    let o = brdf_sls(
+        &["polar", &data, "--formats", "png", "--out", "d.svg"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("incident 10:") && t.contains("incident 40:") && t.contains("incident 70:"),
+        "{t}"
+    );
+    assert!(dir.path().join("d.png").exists() && !dir.path().join("d.svg").exists());
+}
+
+#[test]
+fn polar_errors_name_the_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = cornell("krylon_blue");
+    // The paper's 35 degrees is not measured in the Cornell files: list what is.
+    let o = brdf_sls(
+        &["polar", &data, "--incident", "10,35", "--out", "x"],
+        dir.path(),
+    );
+    let t = failed_cleanly(&o);
+    assert!(
+        t.contains("--incident 35") && t.contains("10, 20, 30, 40, 50, 60, 70, 80"),
+        "{t}"
+    );
+    for (args, needle) in [
+        (&["--incident", "95"][..], "--incident 95"),
+        (&["--fit", "bad={nope"][..], "--fit"),
+        (&["--fit", "x=@missing.json"][..], "missing.json"),
+        (&["--radius", "big"][..], "--radius"),
+        (&["--plane-tol", "-1"][..], "--plane-tol"),
+        (&["--show-dropped"][..], "--max-value"),
+        (&["--config", "AED"][..], "--from-results"),
+        (
+            &["--from-results", "nowhere", "--config", "AED"][..],
+            "nowhere",
+        ),
+    ] {
+        let all: Vec<&str> = ["polar", data.as_str(), "--out", "x"]
+            .into_iter()
+            .chain(args.iter().copied())
+            .collect();
+        let o = brdf_sls(&all, dir.path());
+        let t = failed_cleanly(&o);
+        assert!(t.contains(needle), "{args:?}: {t}");
+    }
+    assert!(!dir.path().join("x.png").exists());
+}
+
+#[test]
+fn polar_from_results_uses_the_best_trial() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = common::TINY
+        .replace("trials = 4", "trials = 2")
+        .replace("evaluations = 400000", "evaluations = 20000")
+        .replace("samples = 400", "samples = 100")
+        .replace("[algorithm.sweep]\nphi = [1.2, 1.4]\n", "");
+    std::fs::write(dir.path().join("tiny.toml"), spec).unwrap();
+    let o = brdf_sls(
+        &[
+            "run",
+            "tiny.toml",
+            "--threads",
+            "1",
+            "--no-plots",
+            "--progress",
+            "quiet",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let data = cornell("krylon_blue");
+    let o = brdf_sls(
+        &[
+            "polar",
+            &data,
+            "--incident",
+            "40",
+            "--from-results",
+            "results/tiny",
+            "--config",
+            "AED",
+            "--formats",
+            "svg",
+            "--out",
+            "best",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("AED best of 2"), "{}", text(&o));
+    assert!(dir.path().join("best.svg").exists());
+    let o = brdf_sls(
+        &[
+            "polar",
+            &data,
+            "--from-results",
+            "results/tiny",
+            "--config",
+            "ASA",
+        ],
+        dir.path(),
+    );
+    let t = failed_cleanly(&o);
+    assert!(t.contains("--config `ASA`") && t.contains("AED"), "{t}");
 }
