@@ -273,8 +273,42 @@ pub fn mann_whitney(a: &[f64], b: &[f64]) -> Option<(f64, f64)> {
     mannwhitneyu(a, b, MannWhitneyUMethod::Automatic, Alternative::TwoSided).ok()
 }
 
+/// Below this `D sqrt(mn / (m + n))` the asymptotic two-sided p-value is 1 to within 1e-8
+/// (the Kolmogorov distribution's CDF at 0.2 is below 1e-20).
+const KS_NEGLIGIBLE_X: f64 = 0.2;
+
+/// The two-sample KS statistic `D = sup |F_a - F_b|` (`+inf` values included, as censored
+/// runs are).
+fn ks_statistic(a: &[f64], b: &[f64]) -> f64 {
+    let (mut a, mut b) = (a.to_vec(), b.to_vec());
+    a.sort_by(f64::total_cmp);
+    b.sort_by(f64::total_cmp);
+    let (mut i, mut j, mut d) = (0, 0, 0.0f64);
+    while i < a.len() && j < b.len() {
+        let t = if a[i].total_cmp(&b[j]).is_le() { a[i] } else { b[j] };
+        while i < a.len() && a[i].total_cmp(&t).is_le() {
+            i += 1;
+        }
+        while j < b.len() && b[j].total_cmp(&t).is_le() {
+            j += 1;
+        }
+        d = d.max((i as f64 / a.len() as f64 - j as f64 / b.len() as f64).abs());
+    }
+    d
+}
+
 /// Two-sample Kolmogorov-Smirnov (statistic D, two-sided p-value); exact for small samples.
 pub fn kolmogorov_smirnov(a: &[f64], b: &[f64]) -> Option<(f64, f64)> {
+    if a.is_empty() || b.is_empty() {
+        return None;
+    }
+    // statrs 0.19's asymptotic series never terminates at D = 0 (its first term stays 1), which
+    // happens whenever two configurations have identical outcomes, e.g. all censored.
+    let d = ks_statistic(a, b);
+    let (m, n) = (a.len() as f64, b.len() as f64);
+    if d * (m * n / (m + n)).sqrt() < KS_NEGLIGIBLE_X {
+        return Some((d, 1.0));
+    }
     let method = if a.len() <= 100 && b.len() <= 100 {
         KSTwoSampleAlternativeMethod::TwoSidedExact
     } else {
@@ -939,6 +973,22 @@ mod tests {
         let csv = finals_csv(&report);
         assert_eq!(csv.lines().nth(1), Some("i,DS,4,3,0.5,0.5,0.25,0.75,3,10"));
         assert!(table(&report).contains("final RMSE per trial"));
+    }
+
+    #[test]
+    fn ks_identical_samples_terminate_with_p_one() {
+        // All censored on both sides (the DS-without-restart case): D = 0.
+        let inf = vec![f64::INFINITY; 200];
+        assert_eq!(kolmogorov_smirnov(&inf, &inf), Some((0.0, 1.0)));
+        let a: Vec<f64> = (0..150).map(f64::from).collect();
+        assert_eq!(kolmogorov_smirnov(&a, &a), Some((0.0, 1.0)));
+        assert_eq!(kolmogorov_smirnov(&a, &[]), None);
+        // Disjoint samples: D = 1 and a tiny p-value.
+        let b: Vec<f64> = (0..150).map(|x| f64::from(x) + 1000.0).collect();
+        let (d, p) = kolmogorov_smirnov(&a, &b).unwrap();
+        assert!((d - 1.0).abs() < 1e-9, "{d}");
+        assert!(p < 1e-10, "{p}");
+        assert_eq!(ks_statistic(&[1.0, 2.0], &[2.0, 3.0]), 0.5);
     }
 
     #[test]
