@@ -19,7 +19,7 @@ use harness::store::read_results;
     about = "Stochastic local search for Lafortune BRDF fitting: experiments, statistics, plots",
     long_about = "Stochastic local search for Lafortune BRDF fitting (Backer, Kimberley and \
 Skrypnyk).\n\nStart with `brdf-sls run`: it runs the built-in default experiment (the paper's \
-tuning instance, AED vs AERS vs RPLS, about a minute on 2 cores) and writes results, \
+tuning instance, AED vs AERS vs RPLS, under a minute on 2 cores) and writes results, \
 statistics and plots to results/default/."
 )]
 struct Cli {

@@ -219,6 +219,24 @@ impl Chart {
     }
 }
 
+/// Tick label on a log axis: only values with mantissa 1, 2 or 5 are labelled. Over about one
+/// decade plotters puts a key point at every integer mantissa, and at 1-9 labels per decade
+/// the wide ones run into each other (`90` and `100`).
+pub fn log_tick(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return tick(v);
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
 /// Compact tick labels: 0.001, 0.5, 12, 3.4k, 1.2M, 1e9.
 pub fn tick(v: f64) -> String {
     let a = v.abs();
@@ -385,13 +403,14 @@ where
         .y_label_area_size(78)
         .build_cartesian_2d(xr, yr)
         .map_err(e)?;
-    let fmt = |v: &f64| tick(*v);
+    let x_fmt = |v: &f64| if c.x_log { log_tick(*v) } else { tick(*v) };
+    let y_fmt = |v: &f64| if c.y_log { log_tick(*v) } else { tick(*v) };
     chart
         .configure_mesh()
         .x_desc(c.x_label.as_str())
         .y_desc(c.y_label.as_str())
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
         .x_labels(10)
         .y_labels(10)
         .label_style(("sans-serif", 15))
@@ -688,8 +707,16 @@ pub fn trace_chart(
     }
     // Random picks can have enormous RMSEs; the interesting part is near the targets.
     let top = targets.iter().copied().fold(ymin, f64::max) * 3.0;
+    // Likewise below: a trial that fits noiseless data exactly ends near 1e-14, which would
+    // squash every trace above the targets into a sliver. Lines below the floor are clipped.
+    let lowest_target = targets.iter().copied().fold(f64::INFINITY, f64::min);
+    let floor = if lowest_target.is_finite() && lowest_target > 0.0 {
+        ymin.max(lowest_target / 10.0)
+    } else {
+        ymin
+    };
     if ymax > 0.0 && ymin.is_finite() {
-        chart.y_range = Some((ymin / 1.05, (ymax * 1.1).min(top)));
+        chart.y_range = Some((floor / 1.05, (ymax * 1.1).min(top)));
     }
     if xmin.is_finite() && xmax > 0.0 {
         chart.x_range = Some((xmin / 1.5, xmax.max(xmin * 2.0) * 1.3));
@@ -877,6 +904,11 @@ mod tests {
         assert_eq!(tick(0.0045), "0.0045");
         assert_eq!(tick(0.0035), "0.0035");
         assert_eq!(tick(3.5), "3.5");
+        assert_eq!(log_tick(100.0), "100");
+        assert_eq!(log_tick(20.0), "20");
+        assert_eq!(log_tick(5e-4), "5e-4");
+        assert_eq!(log_tick(90.0), "");
+        assert_eq!(log_tick(0.003), "");
         assert_eq!(slug("AED phi=1.2"), "AED_phi-1.2");
         let g = target_grid(0.1, 1.0, 3);
         assert!((g[1] - 0.1f64.sqrt()).abs() < 1e-12);

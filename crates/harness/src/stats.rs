@@ -285,7 +285,11 @@ fn ks_statistic(a: &[f64], b: &[f64]) -> f64 {
     b.sort_by(f64::total_cmp);
     let (mut i, mut j, mut d) = (0, 0, 0.0f64);
     while i < a.len() && j < b.len() {
-        let t = if a[i].total_cmp(&b[j]).is_le() { a[i] } else { b[j] };
+        let t = if a[i].total_cmp(&b[j]).is_le() {
+            a[i]
+        } else {
+            b[j]
+        };
         while i < a.len() && a[i].total_cmp(&t).is_le() {
             i += 1;
         }
