@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Reproduces every figure and table of the paper's section 3 that this repository covers:
 # runs each experiments/fig*.toml into results/<name>/ (resuming what is already there) and
-# renders Figures 8, 12 and 18. About 10 minutes of wall time on 2 cores (559 s measured).
+# renders Figures 8, 12 and 18. About 10 minutes of wall time on 2 cores.
 #
 # The raw results are committed gzipped (results/<name>/trials.jsonl.gz, about 7x smaller);
 # this script unpacks them before a run, so a run resumes, and packs them again after it.
