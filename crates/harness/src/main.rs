@@ -402,6 +402,23 @@ fn default_out(spec: Option<&Path>) -> PathBuf {
     PathBuf::from("results").join(stem)
 }
 
+/// The repository's results are committed as `trials.jsonl.gz`; reading or resuming them
+/// needs the plain file, and starting a new `trials.jsonl` beside the packed one would leave
+/// two disagreeing copies.
+fn refuse_packed_results(dir: &Path) -> Result<()> {
+    let plain = dir.join("trials.jsonl");
+    let packed = dir.join("trials.jsonl.gz");
+    if !plain.exists() && packed.exists() {
+        bail!(
+            "{} holds packed results: unpack them with `gunzip -k {}` to re-plot or resume \
+             (or pass --fresh to `run` to start over beside them)",
+            dir.display(),
+            packed.display()
+        );
+    }
+    Ok(())
+}
+
 fn cmd_run(a: RunArgs) -> Result<()> {
     let spec = match &a.spec {
         Some(p) => load_spec(p)?,
@@ -411,6 +428,9 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_out(a.spec.as_deref()));
+    if !a.fresh {
+        refuse_packed_results(&out)?;
+    }
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     if threads == 0 {
         bail!("--threads must be at least 1");
@@ -512,6 +532,7 @@ fn cmd_results(a: ResultsArgs, plots: bool) -> Result<()> {
         };
         (None, dir)
     };
+    refuse_packed_results(&dir)?;
     let contents =
         read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
     let spec = match spec {

@@ -445,3 +445,21 @@ fn polar_from_results_uses_the_best_trial() {
     let t = failed_cleanly(&o);
     assert!(t.contains("--config `ASA`") && t.contains("AED"), "{t}");
 }
+
+#[test]
+fn packed_results_get_an_unpack_hint_not_a_fresh_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("packed");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("trials.jsonl.gz"), b"not really gzip").unwrap();
+    for args in [
+        vec!["stats", "packed"],
+        vec!["plot", "packed"],
+        vec!["run", "--out", "packed", "--limit", "1"],
+    ] {
+        let t = failed_cleanly(&brdf_sls(&args, dir.path()));
+        assert!(t.contains("gunzip -k"), "{args:?}: {t}");
+    }
+    // Nothing was started beside the packed file.
+    assert!(!out.join("trials.jsonl").exists());
+}
