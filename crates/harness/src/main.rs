@@ -177,6 +177,20 @@ impl DataArgs {
         }
     }
 
+    /// Loads the data set, refusing one that the filters left empty, and reports on stderr
+    /// how many samples were kept.
+    fn load_non_empty(&self) -> Result<(DataSet, brdf_model::FilterReport)> {
+        let (data, rep) = self.load()?;
+        if data.is_empty() {
+            bail!(
+                "{}: no samples left after filtering ({rep})",
+                self.data.display()
+            );
+        }
+        eprintln!("{}: {} samples ({rep})", self.data.display(), data.len());
+        Ok((data, rep))
+    }
+
     fn load(&self) -> Result<(DataSet, brdf_model::FilterReport)> {
         let fs = self.file_spec();
         if fs.format.is_none() && DataFormat::from_path(&self.data).is_none() {
@@ -578,14 +592,7 @@ fn cmd_results(a: ResultsArgs, plots: bool) -> Result<()> {
 }
 
 fn cmd_fit(a: FitArgs) -> Result<()> {
-    let (data, rep) = a.data.load()?;
-    if data.is_empty() {
-        bail!(
-            "{}: no samples left after filtering ({rep})",
-            a.data.data.display()
-        );
-    }
-    eprintln!("{}: {} samples ({rep})", a.data.data.display(), data.len());
+    let (data, _) = a.data.load_non_empty()?;
     let model = a.model.spec()?;
     let layout = model.layout().context("model")?;
     let mut table = toml::Table::new();
@@ -670,19 +677,19 @@ fn cmd_gen(a: GenArgs) -> Result<()> {
 }
 
 fn cmd_eval(a: EvalArgs) -> Result<()> {
-    let (data, rep) = a.data.load()?;
     let params = a.params.params()?;
-    if data.is_empty() {
-        bail!("no samples left after filtering ({rep})");
-    }
+    let (data, _) = a.data.load_non_empty()?;
+    println!("RMSE {:.6}", params_rmse(&params, &data)?);
+    Ok(())
+}
+
+/// RMSE of `params` on `data`, through the evaluator with a layout of as many anisotropic
+/// lobes as `params` has (an isotropic lobe is the anisotropic one with `cx = cy`, pan 0).
+fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     let kinds: Vec<LobeKind> = vec![LobeKind::Anisotropic; params.lobes.len()];
     let layout = brdf_model::Layout::builder(&kinds).build()?;
-    let x = layout.encode(&params);
-    let mut ev = Evaluator::new(&layout);
-    let rmse = ev.rmse(&x, &data);
-    println!("{} samples ({rep})", data.len());
-    println!("RMSE {rmse:.6}");
-    Ok(())
+    let x = layout.encode(params);
+    Ok(Evaluator::new(&layout).rmse(&x, data))
 }
 
 fn cmd_info(a: InfoArgs) -> Result<()> {
@@ -887,24 +894,22 @@ fn cmd_render(a: RenderArgs) -> Result<()> {
             a.out.display()
         );
     }
+    // render_png validates the options (render_radiance does) before drawing anything.
     let opts = a.options();
-    opts.validate().map_err(render_error)?;
     let img = harness::render::render_png(&params, &opts, &a.out).map_err(render_error)?;
     // Exposure diagnostics: how much of the surface is burnt out (clamp) helps choose
     // --exposure/--intensity without guessing.
     let gain = opts.exposure * opts.tint.iter().copied().fold(0.0, f64::max);
-    let covered: Vec<usize> = (0..img.radiance.len())
-        .filter(|&i| img.coverage[i] > 0.0)
-        .collect();
-    let clipped = covered
-        .iter()
-        .filter(|&&i| img.radiance[i] * gain >= 1.0)
+    let on_surface = || (0..img.radiance.len()).filter(|&i| img.coverage[i] > 0.0);
+    let covered = on_surface().count();
+    let clipped = on_surface()
+        .filter(|&i| img.radiance[i] * gain >= 1.0)
         .count();
     let (_, _, peak) = img.brightest();
     let clip_note = match opts.tone_map {
-        harness::render::ToneMap::Clamp if !covered.is_empty() => format!(
+        harness::render::ToneMap::Clamp if covered > 0 => format!(
             "; {:.1}% of the surface clipped at white",
-            100.0 * clipped as f64 / covered.len() as f64
+            100.0 * clipped as f64 / covered as f64
         ),
         _ => String::new(),
     };
@@ -1168,21 +1173,6 @@ fn best_from_results(
     Ok((label, layout.decode(&best.result.best_x)))
 }
 
-/// Root-mean-square error of `params` on `data` (as `eval` reports, without a layout so any
-/// lobe count works).
-fn params_rmse(params: &BrdfParams, data: &DataSet) -> f64 {
-    if data.is_empty() {
-        return 0.0;
-    }
-    let ss: f64 = (0..data.len())
-        .map(|i| {
-            let r = params.value(data.u(i), data.v(i)) - data.value(i);
-            r * r
-        })
-        .sum();
-    (ss / data.len() as f64).sqrt()
-}
-
 fn cmd_polar(a: PolarArgs) -> Result<()> {
     use harness::polar::{
         PolarCurve, PolarMeasured, PolarPlot, SliceSelection, default_incident_angles, draw_polar,
@@ -1207,14 +1197,7 @@ fn cmd_polar(a: PolarArgs) -> Result<()> {
         }
     }
     let radius = parse_radius(&a.radius)?;
-    let (data, rep) = a.data.load()?;
-    if data.is_empty() {
-        bail!(
-            "{}: no samples left after filtering ({rep})",
-            a.data.data.display()
-        );
-    }
-    eprintln!("{}: {} samples ({rep})", a.data.data.display(), data.len());
+    let (data, _) = a.data.load_non_empty()?;
     let sel = SliceSelection {
         phi_i_deg: a.phi_i,
         incident_tol_deg: a.incident_tol,
@@ -1281,7 +1264,7 @@ fn cmd_polar(a: PolarArgs) -> Result<()> {
     }
     let mut curves = Vec::new();
     for (k, (label, params)) in fits.into_iter().enumerate() {
-        let rmse = params_rmse(&params, &data);
+        let rmse = params_rmse(&params, &data)?;
         println!(
             "{label}: RMSE {rmse:.6} on {} samples; json: {}",
             data.len(),

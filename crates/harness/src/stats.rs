@@ -23,6 +23,7 @@
 
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
+use statrs::statistics::{Data, Distribution, Max, Min, OrderStatistics};
 use statrs::stats_tests::ks_test::{KSTwoSampleAlternativeMethod, ks_twosample};
 use statrs::stats_tests::mannwhitneyu::{MannWhitneyUMethod, mannwhitneyu};
 use statrs::stats_tests::{Alternative, NaNPolicy};
@@ -484,43 +485,35 @@ pub struct FinalQuality {
 
 /// Final-quality statistics of one group.
 pub fn final_quality(g: &Group<'_>) -> FinalQuality {
-    let mut rmse: Vec<f64> = g
+    let rmse: Vec<f64> = g
         .records
         .iter()
         .map(|r| r.result.best_rmse)
         .filter(|x| x.is_finite())
         .collect();
-    rmse.sort_by(f64::total_cmp);
-    let mut ends: Vec<f64> = g
+    let ends: Vec<f64> = g
         .records
         .iter()
         .map(|r| r.result.ended_at.cpu_seconds)
         .collect();
-    ends.sort_by(f64::total_cmp);
-    let mean = (!rmse.is_empty()).then(|| rmse.iter().sum::<f64>() / rmse.len() as f64);
+    // statrs answers NaN for an empty sample; the report says None.
+    let some = |x: f64| (!x.is_nan()).then_some(x);
+    let (mut rmse, mut ends) = (Data::new(rmse), Data::new(ends));
     FinalQuality {
         instance: g.instance.clone(),
         config: g.config.clone(),
         trials: g.records.len(),
-        rmse_mean: mean,
-        rmse_median: median_sorted(&rmse),
-        rmse_min: rmse.first().copied(),
-        rmse_max: rmse.last().copied(),
-        end_cpu_median: median_sorted(&ends),
-        end_cpu_max: ends.last().copied(),
+        rmse_mean: rmse.mean().and_then(some),
+        rmse_median: some(rmse.median()),
+        rmse_min: some(rmse.min()),
+        rmse_max: some(rmse.max()),
+        end_cpu_median: some(ends.median()),
+        end_cpu_max: some(ends.max()),
         finished: g
             .records
             .iter()
             .filter(|r| r.result.stop == sls::StopReason::Finished)
             .count(),
-    }
-}
-
-fn median_sorted(v: &[f64]) -> Option<f64> {
-    match v.len() {
-        0 => None,
-        n if n % 2 == 1 => Some(v[n / 2]),
-        n => Some(0.5 * (v[n / 2 - 1] + v[n / 2])),
     }
 }
 
@@ -968,6 +961,14 @@ mod tests {
         assert_eq!((q.rmse_min, q.rmse_max), (Some(0.25), Some(0.75)));
         assert_eq!(q.end_cpu_median, Some(3.0));
         assert_eq!(q.end_cpu_max, Some(10.0));
+        let empty = final_quality(&Group {
+            instance: "i".into(),
+            config: "DS".into(),
+            records: vec![&recs[2]],
+        });
+        assert_eq!((empty.rmse_mean, empty.rmse_median), (None, None));
+        assert_eq!((empty.rmse_min, empty.rmse_max), (None, None));
+        assert_eq!(empty.end_cpu_median, Some(10.0));
         let report = StatsReport {
             bootstrap: 0,
             configs: vec![],

@@ -94,6 +94,21 @@ impl TrialResult {
         self.reached_at.is_some()
     }
 
+    /// The result with every clock reading (CPU and wall seconds) zeroed: what two trials with
+    /// the same seed must agree on bit for bit (evaluation counts, candidates, traces).
+    pub fn without_clock(mut self) -> TrialResult {
+        fn zero(s: &mut Stamp) {
+            s.cpu_seconds = 0.0;
+            s.wall_seconds = 0.0;
+        }
+        zero(&mut self.ended_at);
+        if let Some(s) = self.reached_at.as_mut() {
+            zero(s);
+        }
+        self.trace.iter_mut().for_each(|p| zero(&mut p.at));
+        self
+    }
+
     /// The first stamp at which the best RMSE was at or below `target`, from the trace. Lets
     /// the harness derive time-to-target for any target at least as loose as the trial's own.
     pub fn first_reaching(&self, target: f64) -> Option<Stamp> {

@@ -2,40 +2,14 @@
 //! (not in brdf_trials.rs's list because its paper defaults cannot reach the target), the
 //! paper-tuned ASA, and the SA options.
 
-use brdf_model::{Layout, LobeKind, named_params, synthetic};
+use brdf_model::named_params;
 use sls::{
-    AlgorithmConfig, AsaConfig, BrdfObjective, Budget, Perturbation, SaConfig, SalsConfig, Search,
-    Stamp, Stop, StopReason, TrialContext, TrialResult, run_trial,
+    AlgorithmConfig, AsaConfig, Budget, Perturbation, SaConfig, SalsConfig, Search, Stop,
+    StopReason, TrialContext, run_trial,
 };
-use std::sync::Arc;
+mod common;
 
-/// The tuning BRDF (Table 2) sampled `n` times with noise `sigma`.
-fn tuning(n: usize, sigma: f64, seed: u64) -> BrdfObjective {
-    let data = synthetic(&named_params("tuning").unwrap(), n, sigma, seed);
-    let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
-    BrdfObjective::new(Arc::new(data), layout)
-}
-
-fn cpu(seconds: f64) -> Budget {
-    Budget {
-        cpu_seconds: Some(seconds),
-        sample_evaluations: None,
-    }
-}
-
-/// The result with every clock reading zeroed.
-fn timeless(mut r: TrialResult) -> TrialResult {
-    fn zero(s: &mut Stamp) {
-        s.cpu_seconds = 0.0;
-        s.wall_seconds = 0.0;
-    }
-    zero(&mut r.ended_at);
-    if let Some(s) = r.reached_at.as_mut() {
-        zero(s);
-    }
-    r.trace.iter_mut().for_each(|p| zero(&mut p.at));
-    r
-}
+use common::{assert_reproducible_within_budget, cpu, tuning};
 
 /// A cool SA in the optimiser's coordinates, which can fit the easy instance.
 fn cool_sa() -> AlgorithmConfig {
@@ -111,18 +85,8 @@ fn cool_sa_in_optimiser_coordinates_reaches_an_easy_target() {
 #[test]
 fn variants_are_reproducible_respect_budgets_and_trace_monotonically() {
     let objective = tuning(500, 0.1, 2);
-    let budget = Budget {
-        cpu_seconds: None,
-        sample_evaluations: Some(300_000),
-    };
     for config in variants() {
-        let a = timeless(run_trial(&objective, &config, 3, budget, 0.0));
-        let b = timeless(run_trial(&objective, &config, 3, budget, 0.0));
-        let c = timeless(run_trial(&objective, &config, 4, budget, 0.0));
-        assert_eq!(a, b, "{config:?}");
-        assert_ne!(a.trace, c.trace, "{config:?}");
-        assert_eq!(a.stop, StopReason::EvaluationBudget);
-        assert!(a.ended_at.evaluations.total() <= 300_000);
+        let a = assert_reproducible_within_budget(&objective, &config);
         assert!(a.trace.windows(2).all(|w| w[1].rmse < w[0].rmse));
         assert_eq!(a.trace.last().map(|p| p.rmse), Some(a.best_rmse));
         let cutoff = 0.05;

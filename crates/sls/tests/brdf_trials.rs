@@ -1,18 +1,12 @@
 //! Trials of every algorithm on small BRDF instances (brdf-model's synthetic data).
 
-use brdf_model::{Layout, LobeKind, named_params, synthetic};
 use sls::{
-    AedConfig, AersConfig, AlgorithmConfig, AsaConfig, AvgConfig, BrdfObjective, Budget, DsConfig,
-    RplsConfig, SalsConfig, Stamp, StopReason, TrialResult, run_trial,
+    AedConfig, AersConfig, AlgorithmConfig, AsaConfig, AvgConfig, DsConfig, RplsConfig, SalsConfig,
+    StopReason, run_trial,
 };
-use std::sync::Arc;
+mod common;
 
-/// The tuning BRDF (Table 2) sampled `n` times with noise `sigma`.
-fn tuning(n: usize, sigma: f64, seed: u64) -> BrdfObjective {
-    let data = synthetic(&named_params("tuning").unwrap(), n, sigma, seed);
-    let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
-    BrdfObjective::new(Arc::new(data), layout)
-}
+use common::{assert_reproducible_within_budget, cpu, tuning};
 
 fn all_algorithms() -> Vec<AlgorithmConfig> {
     vec![
@@ -26,27 +20,6 @@ fn all_algorithms() -> Vec<AlgorithmConfig> {
         AlgorithmConfig::Avg(AvgConfig::default()),
         AlgorithmConfig::Asa(AsaConfig::default()),
     ]
-}
-
-fn cpu(seconds: f64) -> Budget {
-    Budget {
-        cpu_seconds: Some(seconds),
-        sample_evaluations: None,
-    }
-}
-
-/// The result with every clock reading zeroed.
-fn timeless(mut r: TrialResult) -> TrialResult {
-    fn zero(s: &mut Stamp) {
-        s.cpu_seconds = 0.0;
-        s.wall_seconds = 0.0;
-    }
-    zero(&mut r.ended_at);
-    if let Some(s) = r.reached_at.as_mut() {
-        zero(s);
-    }
-    r.trace.iter_mut().for_each(|p| zero(&mut p.at));
-    r
 }
 
 #[test]
@@ -71,18 +44,8 @@ fn every_algorithm_reaches_the_target_on_an_easy_instance() {
 #[test]
 fn trials_are_reproducible_and_seeds_differ() {
     let objective = tuning(500, 0.1, 2);
-    let budget = Budget {
-        cpu_seconds: None,
-        sample_evaluations: Some(300_000),
-    };
     for config in all_algorithms() {
-        let a = timeless(run_trial(&objective, &config, 3, budget, 0.0));
-        let b = timeless(run_trial(&objective, &config, 3, budget, 0.0));
-        let c = timeless(run_trial(&objective, &config, 4, budget, 0.0));
-        assert_eq!(a, b, "{}", config.kind_name());
-        assert_ne!(a.trace, c.trace, "{}", config.kind_name());
-        assert_eq!(a.stop, StopReason::EvaluationBudget);
-        assert!(a.ended_at.evaluations.total() <= 300_000);
+        let _ = assert_reproducible_within_budget(&objective, &config);
     }
 }
 
