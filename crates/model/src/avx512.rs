@@ -5,7 +5,7 @@
 #![cfg(target_arch = "x86_64")]
 #![allow(clippy::excessive_precision)]
 
-use crate::data::DataSet;
+use crate::data::View;
 use std::arch::x86_64::*;
 
 const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
@@ -108,13 +108,13 @@ fn store(v: &mut [f64], i: usize, mask: __mmask8, x: __m512d) {
 /// The clamped-product argument `d` of one lobe for lanes `i..i+8`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn lobe_d(c: &[f64; 4], with_r: bool, d: &DataSet, i: usize, mask: __mmask8) -> __m512d {
-    let ux = load(&d.ux, i, mask);
-    let uy = load(&d.uy, i, mask);
-    let uz = load(&d.uz, i, mask);
-    let vx = load(&d.vx, i, mask);
-    let vy = load(&d.vy, i, mask);
-    let vz = load(&d.vz, i, mask);
+fn lobe_d(c: &[f64; 4], with_r: bool, d: &View<'_>, i: usize, mask: __mmask8) -> __m512d {
+    let ux = load(d.ux, i, mask);
+    let uy = load(d.uy, i, mask);
+    let uz = load(d.uz, i, mask);
+    let vx = load(d.vx, i, mask);
+    let vy = load(d.vy, i, mask);
+    let vz = load(d.vz, i, mask);
     let mut dd = _mm512_mul_pd(splat(c[3]), _mm512_mul_pd(uz, vz));
     dd = _mm512_fmadd_pd(splat(c[1]), _mm512_mul_pd(uy, vy), dd);
     dd = _mm512_fmadd_pd(splat(c[0]), _mm512_mul_pd(ux, vx), dd);
@@ -145,7 +145,13 @@ fn lanes(m: usize) -> impl Iterator<Item = (usize, __mmask8)> {
 /// # Safety
 /// The CPU must support AVX-512F; `d` must hold at least `out.len()` samples.
 #[target_feature(enable = "avx512f")]
-pub(crate) unsafe fn lobe_values(c: &[f64; 4], n: f64, with_r: bool, d: &DataSet, out: &mut [f64]) {
+pub(crate) unsafe fn lobe_values(
+    c: &[f64; 4],
+    n: f64,
+    with_r: bool,
+    d: &View<'_>,
+    out: &mut [f64],
+) {
     let nn = splat(n);
     for (i, mask) in lanes(out.len()) {
         let dd = lobe_d(c, with_r, d, i, mask);
@@ -170,7 +176,7 @@ pub(crate) unsafe fn lobe_jacobian(
     c: &[f64; 4],
     n: f64,
     with_r: bool,
-    d: &DataSet,
+    d: &View<'_>,
     out: &mut [f64],
     cols: &mut [Option<&mut [f64]>; 5],
     rows: &[[f64; 4]; 5],
@@ -180,14 +186,17 @@ pub(crate) unsafe fn lobe_jacobian(
     let zero = _mm512_setzero_pd();
     let inf = splat(f64::INFINITY);
     let has_n = cols[3].is_some();
+    // g = n d^n / d without a spurious overflow of n d^n (see `g_factors`).
+    let (ga, gb) = crate::eval::g_factors(n);
+    let (ga, gb) = (splat(ga), splat(gb));
     let mut bad: __mmask8 = 0;
     for (i, mask) in lanes(out.len()) {
-        let ux = load(&d.ux, i, mask);
-        let uy = load(&d.uy, i, mask);
-        let uz = load(&d.uz, i, mask);
-        let vx = load(&d.vx, i, mask);
-        let vy = load(&d.vy, i, mask);
-        let vz = load(&d.vz, i, mask);
+        let ux = load(d.ux, i, mask);
+        let uy = load(d.uy, i, mask);
+        let uz = load(d.uz, i, mask);
+        let vx = load(d.vx, i, mask);
+        let vy = load(d.vy, i, mask);
+        let vz = load(d.vz, i, mask);
         let p = _mm512_mul_pd(ux, vx);
         let q = _mm512_mul_pd(uy, vy);
         let r = _mm512_fmadd_pd(ux, vy, _mm512_mul_pd(uy, vx));
@@ -207,7 +216,7 @@ pub(crate) unsafe fn lobe_jacobian(
         let g = if n == 0.0 {
             zero
         } else {
-            _mm512_div_pd(_mm512_mul_pd(nn, f), den)
+            _mm512_mul_pd(_mm512_div_pd(_mm512_mul_pd(f, ga), den), gb)
         };
         let h = _mm512_mul_pd(_mm512_mul_pd(f, l), splat(n_scale));
         // |v| < inf is false for inf and NaN.

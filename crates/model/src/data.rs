@@ -1,6 +1,6 @@
 //! Data sets (structure of arrays), synthetic instances, filters and subsampling.
 
-use crate::params::BrdfParams;
+use crate::params::{BrdfParams, ParamError};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 use std::io::Write;
@@ -16,6 +16,18 @@ pub struct DataSet {
     pub(crate) vy: Vec<f64>,
     pub(crate) vz: Vec<f64>,
     pub(crate) value: Vec<f64>,
+}
+
+/// Borrowed columns of a range of samples (what the evaluation kernels read).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct View<'a> {
+    pub(crate) ux: &'a [f64],
+    pub(crate) uy: &'a [f64],
+    pub(crate) uz: &'a [f64],
+    pub(crate) vx: &'a [f64],
+    pub(crate) vy: &'a [f64],
+    pub(crate) vz: &'a [f64],
+    pub(crate) value: &'a [f64],
 }
 
 impl DataSet {
@@ -55,6 +67,19 @@ impl DataSet {
             vz,
             value,
         })
+    }
+
+    /// Samples `lo..hi` as borrowed columns.
+    pub(crate) fn view(&self, lo: usize, hi: usize) -> View<'_> {
+        View {
+            ux: &self.ux[lo..hi],
+            uy: &self.uy[lo..hi],
+            uz: &self.uz[lo..hi],
+            vx: &self.vx[lo..hi],
+            vy: &self.vy[lo..hi],
+            vz: &self.vz[lo..hi],
+            value: &self.value[lo..hi],
+        }
     }
 
     /// Number of samples.
@@ -193,10 +218,22 @@ pub fn uniform_hemisphere<R: Rng + ?Sized>(rng: &mut R) -> [f64; 3] {
     [r * phi.cos(), r * phi.sin(), z]
 }
 
+/// Most samples of a data set built by [`try_synthetic`] or read by the readers in
+/// [`crate::io`]: 10,000,000 (about 560 MB of [`DataSet`]).
+pub const MAX_SAMPLES: usize = 10_000_000;
+
+/// Largest noise standard deviation [`try_synthetic`] accepts: 1000 (model values are of
+/// order 0.1 to 100; the paper uses 0.1).
+pub const MAX_SIGMA: f64 = 1000.0;
+
 /// A synthetic instance as in the paper: `count` samples with incident and exitant directions
 /// drawn independently and uniformly by solid angle over the hemisphere, value
 /// `f(u, v) + sigma * N(0, 1)` (no noise when `sigma == 0`). Seeded: the same `seed` always
 /// gives the same data (PCG64-MCG).
+///
+/// Unchecked, kept for compatibility: a huge `count` aborts on allocation and bad parameters
+/// or `sigma` give NaN or infinite values. Prefer [`try_synthetic`], which gives the same data
+/// when its checks pass.
 pub fn synthetic(params: &BrdfParams, count: usize, sigma: f64, seed: u64) -> DataSet {
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
     let mut d = DataSet::with_capacity(count);
@@ -213,26 +250,63 @@ pub fn synthetic(params: &BrdfParams, count: usize, sigma: f64, seed: u64) -> Da
     d
 }
 
+/// [`synthetic`] with its inputs checked first: `params` by [`BrdfParams::validate`] (finite,
+/// inside the Table 1 box, at most [`crate::params::MAX_LOBES`] lobes), `count` in
+/// `1..=`[`MAX_SAMPLES`], `sigma` finite in `[0, `[`MAX_SIGMA`]`]`; and every generated value
+/// must be finite (in-box parameters can still overflow, e.g. `cz = 1.5, n = 10000`).
+/// The data are identical to `synthetic(params, count, sigma, seed)`.
+pub fn try_synthetic(
+    params: &BrdfParams,
+    count: usize,
+    sigma: f64,
+    seed: u64,
+) -> Result<DataSet, ParamError> {
+    params.validate()?;
+    if !(1..=MAX_SAMPLES).contains(&count) {
+        return Err(ParamError::SampleCount { count });
+    }
+    if !(sigma.is_finite() && (0.0..=MAX_SIGMA).contains(&sigma)) {
+        return Err(ParamError::Sigma { sigma });
+    }
+    let d = synthetic(params, count, sigma, seed);
+    if let Some(i) = d.value.iter().position(|y| !y.is_finite()) {
+        return Err(ParamError::NonFiniteValue {
+            index: i,
+            value: d.value[i],
+        });
+    }
+    Ok(d)
+}
+
 /// Which samples a reader drops. A sample is counted under the first reason that applies, in
 /// the order: not finite, below the horizon, negative, above the maximum.
+///
+/// **One data policy:** [`Filters::default`] is the policy for every command and reader:
+/// drop non-finite samples and samples below the horizon, keep negative values (noisy data,
+/// e.g. a synthetic instance with noise written to CSV, legitimately has them; dropping them
+/// biases the fit upward) and set no maximum. [`Filters::paper`] is the paper's filtering of
+/// the measured Cornell data; [`Filters::none`] keeps everything (non-finite values included:
+/// the caller then asked for them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Filters {
     /// Drop values strictly above this (the paper dropped values > 1). `None`: keep all.
     pub max_value: Option<f64>,
-    /// Drop negative values.
+    /// Drop negative values (default: false, keep them).
     pub drop_negative: bool,
-    /// Drop NaN and infinite values (and non-finite direction components).
+    /// Drop NaN and infinite values (and non-finite direction components) (default: true).
     pub drop_non_finite: bool,
-    /// Drop samples whose incident or exitant direction has `z < 0`.
+    /// Drop samples whose incident or exitant direction has `z < 0`, and MERL entries marked
+    /// below the horizon (negative) (default: true).
     pub drop_below_horizon: bool,
 }
 
 impl Default for Filters {
-    /// Drops non-finite, negative and below-horizon samples; no maximum.
+    /// The one default policy: drops non-finite and below-horizon samples, keeps negative
+    /// values, no maximum.
     fn default() -> Self {
         Filters {
             max_value: None,
-            drop_negative: true,
+            drop_negative: false,
             drop_non_finite: true,
             drop_below_horizon: true,
         }
@@ -240,15 +314,17 @@ impl Default for Filters {
 }
 
 impl Filters {
-    /// The paper's filtering of measured data: the defaults plus dropping values above 1.
+    /// The paper's filtering of measured data: the default plus dropping negative values and
+    /// values above 1.
     pub fn paper() -> Self {
         Filters {
             max_value: Some(1.0),
+            drop_negative: true,
             ..Filters::default()
         }
     }
 
-    /// Keeps nothing out: every sample passes.
+    /// Keeps nothing out: every sample passes (also NaN and infinite ones).
     pub fn none() -> Self {
         Filters {
             max_value: None,
@@ -260,11 +336,24 @@ impl Filters {
 
     /// Classifies one sample, updating `report`; returns true when it is kept.
     pub fn admit(&self, u: [f64; 3], v: [f64; 3], value: f64, report: &mut FilterReport) -> bool {
+        self.admit_marked(u, v, value, false, report)
+    }
+
+    /// [`Filters::admit`] for a sample that the source itself may mark as below the horizon
+    /// (MERL's negative entries): `below_mark` counts as a direction below the horizon.
+    pub(crate) fn admit_marked(
+        &self,
+        u: [f64; 3],
+        v: [f64; 3],
+        value: f64,
+        below_mark: bool,
+        report: &mut FilterReport,
+    ) -> bool {
         report.read += 1;
         let finite = value.is_finite() && u.iter().chain(v.iter()).all(|c| c.is_finite());
         if self.drop_non_finite && !finite {
             report.non_finite += 1;
-        } else if self.drop_below_horizon && (u[2] < 0.0 || v[2] < 0.0) {
+        } else if self.drop_below_horizon && (below_mark || u[2] < 0.0 || v[2] < 0.0) {
             report.below_horizon += 1;
         } else if self.drop_negative && value < 0.0 {
             report.negative += 1;

@@ -16,9 +16,12 @@
 //! overflows to `+inf`, and then [`Evaluator::residuals`] / [`Evaluator::jacobian`] return
 //! false and [`Evaluator::sum_squares`] returns `+inf` (never NaN).
 //!
-//! Speed: the per-sample loops call branch-free `exp`/`ln` (no libm calls) and exist in three
-//! compiled copies, chosen once per [`Evaluator`] from the running CPU ([`SimdLevel`]), so
-//! one portable x86-64 binary uses what the machine has:
+//! Kernels ([`Kernel`], chosen per [`Evaluator`]: `auto` by default, or by name with
+//! [`Evaluator::with_kernel`] / [`Evaluator::set_kernel`]): [`Kernel::Scalar`] is the plain
+//! libm reference (one sample at a time, `powf` and `ln`); the fast per-sample loops call
+//! branch-free `exp`/`ln` (no libm calls) and exist in three compiled copies, `auto` picking
+//! the best the running CPU has ([`SimdLevel`]), so one portable x86-64 binary uses what the
+//! machine has:
 //! - [`SimdLevel::Avx512`]: hand-written AVX-512F kernels, 8 lanes, `getexp`/`getmant` for the
 //!   logarithm and `scalef` for the exponential; the Jacobian is written in the same pass as
 //!   the values (the data loaded once per lobe);
@@ -28,7 +31,7 @@
 //! All agree with the scalar `powf` reference ([`BrdfParams::value`](crate::BrdfParams::value))
 //! to about 3e-13 relative (test `evaluator_agrees_with_scalar_libm_reference`).
 
-use crate::data::DataSet;
+use crate::data::{DataSet, View};
 use crate::fastmath::{MulAdd, Plain, pow_clamped};
 use crate::layout::{ExponentCoord, Field, Layout, LobeKind};
 
@@ -100,7 +103,8 @@ pub struct Evaluator {
     h: Vec<f64>,
     rbuf: Vec<f64>,
     sub: DataSet,
-    level: SimdLevel,
+    /// The concrete kernel in use (never [`Kernel::Auto`]).
+    kernel: Kernel,
 }
 
 impl Evaluator {
@@ -157,8 +161,34 @@ impl Evaluator {
             h: Vec::new(),
             rbuf: Vec::new(),
             sub: DataSet::new(),
-            level: SimdLevel::best(),
+            kernel: Kernel::Auto.concrete(),
         }
+    }
+
+    /// [`Evaluator::new`] with the kernel `kernel` ([`Kernel::Auto`]: the fastest the CPU has).
+    ///
+    /// # Errors
+    /// [`KernelError::Unavailable`] when the running CPU lacks the kernel's instructions.
+    pub fn with_kernel(layout: &Layout, kernel: Kernel) -> Result<Self, KernelError> {
+        let mut ev = Self::new(layout);
+        ev.set_kernel(kernel)?;
+        Ok(ev)
+    }
+
+    /// Selects the evaluation kernel ([`Kernel::Auto`] resolves to the fastest available) and
+    /// returns the concrete kernel now in use; on error nothing changes.
+    ///
+    /// # Errors
+    /// [`KernelError::Unavailable`] when the running CPU lacks the kernel's instructions.
+    pub fn set_kernel(&mut self, kernel: Kernel) -> Result<Kernel, KernelError> {
+        self.kernel = kernel.resolve()?;
+        Ok(self.kernel)
+    }
+
+    /// The concrete kernel in use (never [`Kernel::Auto`]); its [`Kernel::name`] is what to
+    /// record next to results.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
     }
 
     /// The layout this evaluator was built for.
@@ -168,28 +198,32 @@ impl Evaluator {
 
     /// True when a SIMD copy of the loops (AVX2 or AVX-512) is in use.
     pub fn uses_simd(&self) -> bool {
-        self.level != SimdLevel::Portable
+        matches!(self.kernel, Kernel::Avx2 | Kernel::Avx512)
     }
 
-    /// The copy of the loops in use.
+    /// The copy of the loops in use ([`SimdLevel::Portable`] also for [`Kernel::Scalar`]).
     pub fn simd_level(&self) -> SimdLevel {
-        self.level
+        match self.kernel {
+            Kernel::Avx512 => SimdLevel::Avx512,
+            Kernel::Avx2 => SimdLevel::Avx2,
+            _ => SimdLevel::Portable,
+        }
     }
 
     /// `false` forces the baseline-target loops; `true` selects the best level the CPU has.
     /// For benchmarks and tests; results agree to rounding either way.
     pub fn set_simd(&mut self, enabled: bool) {
-        self.level = if enabled {
-            SimdLevel::best()
+        self.kernel = if enabled {
+            SimdLevel::best().into()
         } else {
-            SimdLevel::Portable
+            Kernel::Portable
         };
     }
 
     /// Selects a level; returns false (and changes nothing) when the CPU lacks it.
     pub fn set_simd_level(&mut self, level: SimdLevel) -> bool {
         if level.is_available() {
-            self.level = level;
+            self.kernel = level.into();
             true
         } else {
             false
@@ -242,15 +276,7 @@ impl Evaluator {
             return false;
         }
         let kd = self.prepare(x);
-        let coefs = &self.coefs[..];
-        #[cfg(target_arch = "x86_64")]
-        match self.level {
-            // SAFETY: a level is only selected when the CPU reports its features.
-            SimdLevel::Avx512 => return unsafe { simd::residuals512(coefs, kd, data, r) },
-            SimdLevel::Avx2 => return unsafe { simd::residuals(coefs, kd, data, r) },
-            SimdLevel::Portable => {}
-        }
-        residuals_impl::<Plain, GENERIC>(coefs, kd, data, r)
+        residuals_view(self.kernel, &self.coefs, kd, &data.view(0, r.len()), r)
     }
 
     /// Column-major Jacobian `jac[j * m + i] = d r_i / d x_j` (length `m * dim`). Returns false
@@ -285,18 +311,16 @@ impl Evaluator {
             kd,
             data,
         };
-        #[cfg(target_arch = "x86_64")]
-        match self.level {
-            // SAFETY: a level is only selected when the CPU reports its features.
-            SimdLevel::Avx512 => {
-                return unsafe { simd::jacobian512(&w, r, jac, &mut self.g, &mut self.h) };
-            }
-            SimdLevel::Avx2 => {
-                return unsafe { simd::jacobian(&w, r, jac, &mut self.g, &mut self.h) };
-            }
-            SimdLevel::Portable => {}
+        match self.kernel {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: a kernel is only selected when the CPU reports its features.
+            Kernel::Avx512 => unsafe { simd::jacobian512(&w, r, jac, &mut self.g, &mut self.h) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as above.
+            Kernel::Avx2 => unsafe { simd::jacobian(&w, r, jac, &mut self.g, &mut self.h) },
+            Kernel::Scalar => scalar::jacobian(&w, r, jac),
+            _ => jacobian_impl::<Plain, GENERIC>(&w, r, jac, &mut self.g, &mut self.h),
         }
-        jacobian_impl::<Plain, GENERIC>(&w, r, jac, &mut self.g, &mut self.h)
     }
 
     /// Sum of squared residuals; `+inf` when the evaluation fails (never NaN).
@@ -307,6 +331,66 @@ impl Evaluator {
         let ss = if ok { sum_sq(&r) } else { f64::INFINITY };
         self.rbuf = r;
         if ss.is_finite() { ss } else { f64::INFINITY }
+    }
+
+    /// [`Evaluator::sum_squares`], stopping early once the partial sum exceeds `bound`.
+    ///
+    /// The residuals are computed in blocks of [`SUM_BLOCK`] samples; after each block the
+    /// partial sum is compared with `bound`. Returns `sum_squares: None` as soon as it exceeds
+    /// `bound` (then the full sum does too: every term is non-negative), otherwise the full sum,
+    /// **bit for bit equal** to [`Evaluator::sum_squares`] (same kernel, same per-sample
+    /// arithmetic, same summation order). A failed evaluation counts as `+inf`, so it gives
+    /// `None` for any finite `bound`. `samples` is how many samples were actually evaluated.
+    pub fn sum_squares_below(&mut self, x: &[f64], data: &DataSet, bound: f64) -> SumBelow {
+        let m = data.len();
+        let mut r = std::mem::take(&mut self.rbuf);
+        r.resize(m, 0.0);
+        let out = self.sum_below_impl(x, data, bound, &mut r);
+        self.rbuf = r;
+        out
+    }
+
+    fn sum_below_impl(&mut self, x: &[f64], data: &DataSet, bound: f64, r: &mut [f64]) -> SumBelow {
+        let m = data.len();
+        let failed = |samples| SumBelow {
+            sum_squares: (f64::INFINITY <= bound).then_some(f64::INFINITY),
+            samples,
+        };
+        if x.len() != self.layout.dim() {
+            return failed(0);
+        }
+        let kd = self.prepare(x);
+        // The accumulators of `sum_sq`, carried across blocks (whose length is a multiple of 8,
+        // so the lanes line up exactly as in one call over all samples).
+        let mut acc = [0.0f64; 8];
+        let mut tail = 0.0;
+        for lo in (0..m).step_by(SUM_BLOCK) {
+            let hi = (lo + SUM_BLOCK).min(m);
+            let rb = &mut r[lo..hi];
+            if !residuals_view(self.kernel, &self.coefs, kd, &data.view(lo, hi), rb) {
+                return failed(hi);
+            }
+            let mut chunks = rb.chunks_exact(8);
+            for c in &mut chunks {
+                for k in 0..8 {
+                    acc[k] += c[k] * c[k];
+                }
+            }
+            tail = chunks.remainder().iter().map(|v| v * v).sum();
+            if hi < m && acc.iter().sum::<f64>() > bound {
+                return SumBelow {
+                    sum_squares: None,
+                    samples: hi,
+                };
+            }
+        }
+        let mut ss = tail;
+        ss += acc.iter().sum::<f64>();
+        let ss = if ss.is_finite() { ss } else { f64::INFINITY };
+        SumBelow {
+            sum_squares: (ss <= bound).then_some(ss),
+            samples: m,
+        }
     }
 
     /// Root mean square error `sqrt(sum_squares / m)`; `+inf` on failure, 0 for an empty set.
@@ -325,6 +409,185 @@ impl Evaluator {
         let e = self.rmse(x, &sub);
         self.sub = sub;
         e
+    }
+}
+
+/// Result of [`Evaluator::sum_squares_below`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SumBelow {
+    /// The sum of squared residuals when it is at most the bound (`+inf` for a failed
+    /// evaluation only when the bound is `+inf`); `None` when it exceeds the bound.
+    pub sum_squares: Option<f64>,
+    /// Samples actually evaluated (the data size unless the sum was cut short).
+    pub samples: usize,
+}
+
+/// Block length of [`Evaluator::sum_squares_below`] (a multiple of 8): the overhead of a
+/// block is one check of the partial sum.
+pub const SUM_BLOCK: usize = 1024;
+
+/// Residuals of samples `data` into `r` with the kernel `kernel` (concrete).
+fn residuals_view(kernel: Kernel, coefs: &[Coef], kd: f64, data: &View<'_>, r: &mut [f64]) -> bool {
+    match kernel {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a kernel is only selected when the CPU reports its features.
+        Kernel::Avx512 => unsafe { simd::residuals512(coefs, kd, data, r) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Kernel::Avx2 => unsafe { simd::residuals(coefs, kd, data, r) },
+        Kernel::Scalar => scalar::residuals(coefs, kd, data, r),
+        _ => residuals_impl::<Plain, GENERIC>(coefs, kd, data, r),
+    }
+}
+
+/// The evaluation kernel: which implementation of the per-sample loops runs. A user-facing
+/// choice (`auto|avx512|avx2|portable|scalar`, the [`FromStr`](std::str::FromStr),
+/// [`Display`](std::fmt::Display) and serde spelling); [`Kernel::resolve`] turns it into the
+/// concrete kernel the running CPU executes.
+///
+/// All kernels agree with [`Kernel::Scalar`] to about 1e-12 relative (values) over the whole
+/// Table 1 box, report overflow (`d^n = +inf`) the same way, and never produce NaN values (test
+/// `every_kernel_agrees_with_scalar_over_the_box`).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Kernel {
+    /// The fastest kernel the CPU has (AVX-512, else AVX2, else portable).
+    #[default]
+    Auto,
+    /// Hand-written AVX-512F lobe kernels (8 lanes); needs AVX-512F, AVX2 and FMA.
+    Avx512,
+    /// The branch-free loops compiled with AVX2 and FMA (4 lanes); needs AVX2 and FMA.
+    Avx2,
+    /// The branch-free loops compiled for the baseline target (SSE2 on x86-64), any CPU.
+    Portable,
+    /// A plain, non-vectorised reference: one sample at a time with std's libm `powf` and `ln`.
+    /// Slow; the yardstick the other kernels are tested against.
+    Scalar,
+}
+
+/// A kernel name that is not known, or a kernel the running CPU cannot execute.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum KernelError {
+    /// Not one of `auto`, `avx512`, `avx2`, `portable`, `scalar`.
+    #[error("unknown kernel `{0}`: expected one of auto, avx512, avx2, portable, scalar")]
+    Unknown(String),
+    /// The CPU lacks the instructions the kernel needs.
+    #[error(
+        "the {kernel} kernel needs {needs}, which this CPU does not have (available: {available})"
+    )]
+    Unavailable {
+        /// The requested kernel.
+        kernel: Kernel,
+        /// The CPU features it needs.
+        needs: &'static str,
+        /// The kernels this CPU can run, comma-separated.
+        available: String,
+    },
+}
+
+impl Kernel {
+    /// Every choice, in the order `auto, avx512, avx2, portable, scalar`.
+    pub const ALL: [Kernel; 5] = [
+        Kernel::Auto,
+        Kernel::Avx512,
+        Kernel::Avx2,
+        Kernel::Portable,
+        Kernel::Scalar,
+    ];
+
+    /// The lowercase name: `"auto"`, `"avx512"`, `"avx2"`, `"portable"`, `"scalar"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Auto => "auto",
+            Kernel::Avx512 => "avx512",
+            Kernel::Avx2 => "avx2",
+            Kernel::Portable => "portable",
+            Kernel::Scalar => "scalar",
+        }
+    }
+
+    /// True when the running CPU can execute this kernel (always for `auto`, `portable` and
+    /// `scalar`).
+    pub fn is_available(self) -> bool {
+        match self {
+            Kernel::Auto | Kernel::Portable | Kernel::Scalar => true,
+            Kernel::Avx2 => SimdLevel::Avx2.is_available(),
+            Kernel::Avx512 => SimdLevel::Avx512.is_available(),
+        }
+    }
+
+    /// The concrete kernels the running CPU can execute, fastest first (never `auto`).
+    pub fn available() -> Vec<Kernel> {
+        [
+            Kernel::Avx512,
+            Kernel::Avx2,
+            Kernel::Portable,
+            Kernel::Scalar,
+        ]
+        .into_iter()
+        .filter(|k| k.is_available())
+        .collect()
+    }
+
+    /// `auto` -> the fastest available kernel; any other kernel -> itself.
+    fn concrete(self) -> Kernel {
+        match self {
+            Kernel::Auto => SimdLevel::best().into(),
+            k => k,
+        }
+    }
+
+    /// The concrete kernel this choice runs on this CPU: `auto` becomes the fastest available
+    /// one, the others themselves.
+    ///
+    /// # Errors
+    /// [`KernelError::Unavailable`] when the CPU lacks the requested kernel's instructions.
+    pub fn resolve(self) -> Result<Kernel, KernelError> {
+        if self.is_available() {
+            return Ok(self.concrete());
+        }
+        Err(KernelError::Unavailable {
+            kernel: self,
+            needs: match self {
+                Kernel::Avx512 => "AVX-512F, AVX2 and FMA",
+                _ => "AVX2 and FMA",
+            },
+            available: Kernel::available()
+                .iter()
+                .map(|k| k.name())
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+    }
+}
+
+impl std::fmt::Display for Kernel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Kernel {
+    type Err = KernelError;
+    /// Parses the lowercase names of [`Kernel::name`] (surrounding spaces and case ignored).
+    fn from_str(s: &str) -> Result<Self, KernelError> {
+        let t = s.trim().to_ascii_lowercase();
+        Kernel::ALL
+            .into_iter()
+            .find(|k| k.name() == t)
+            .ok_or_else(|| KernelError::Unknown(s.to_string()))
+    }
+}
+
+impl From<SimdLevel> for Kernel {
+    fn from(level: SimdLevel) -> Self {
+        match level {
+            SimdLevel::Portable => Kernel::Portable,
+            SimdLevel::Avx2 => Kernel::Avx2,
+            SimdLevel::Avx512 => Kernel::Avx512,
+        }
     }
 }
 
@@ -405,7 +668,7 @@ fn all_finite(v: &[f64]) -> bool {
 
 /// Adds lobe values to `out`.
 #[inline(always)]
-fn lobe_values<A: MulAdd, const R: bool>(c: &Coef, d: &DataSet, out: &mut [f64]) {
+fn lobe_values<A: MulAdd, const R: bool>(c: &Coef, d: &View<'_>, out: &mut [f64]) {
     let m = out.len();
     let (ux, uy, uz) = (&d.ux[..m], &d.uy[..m], &d.uz[..m]);
     let (vx, vy, vz) = (&d.vx[..m], &d.vy[..m], &d.vz[..m]);
@@ -439,6 +702,7 @@ fn lobe_full<A: MulAdd, const R: bool>(
     let (vx, vy, vz) = (&d.vx[lo..hi], &d.vy[lo..hi], &d.vz[lo..hi]);
     let (g, h) = (&mut g[..m], &mut h[..m]);
     let (ap, aq, ar, cz, n) = (c.ap, c.aq, c.ar, c.cz, c.n);
+    let (ga, gb) = g_factors(n);
     for i in 0..m {
         let mut dd = A::mad(
             ap,
@@ -452,10 +716,21 @@ fn lobe_full<A: MulAdd, const R: bool>(
         out[i] += f;
         let pos = dd > 0.0;
         // n = 0 must give 0 even when d^n / d overflows.
-        let gi = n * f / if pos { dd } else { 1.0 };
+        let gi = f * ga / if pos { dd } else { 1.0 } * gb;
         g[i] = if n == 0.0 { 0.0 } else { gi };
         h[i] = f * l;
     }
+}
+
+/// Factors `(a, b)` with `g = n d^n / d = (d^n a / d) b` computed without a spurious overflow:
+/// `(1, n)` for `n >= 1` (then `d^n / d = d^(n-1)` is at most `max(1, d^n)`, so `n (d^n / d)`
+/// overflows only when `g` does) and `(n, 1)` for `n < 1` (then `n d^n <= d^n`). Multiplying by
+/// 1 is exact, so each case rounds exactly as `n (d^n / d)` or `(n d^n) / d`. Computing
+/// `n d^n / d` left to right overflowed for large `n` with `d > 1` (e.g. `d = 1.5`,
+/// `n = 1732.55`: `d^n = 1.2e305` but `n d^n = 2.1e308`, while `g = 1.41e308`).
+#[inline(always)]
+pub(crate) fn g_factors(n: f64) -> (f64, f64) {
+    if n >= 1.0 { (1.0, n) } else { (n, 1.0) }
 }
 
 /// `col_i = g_i (a P + b Q + c R + e S)` for samples `lo..lo + col.len()`, `w = [a, b, c, e]`.
@@ -520,7 +795,7 @@ fn lobe_columns<'j>(
 fn residuals_impl<A: MulAdd, const K: u8>(
     coefs: &[Coef],
     kd: f64,
-    data: &DataSet,
+    data: &View<'_>,
     r: &mut [f64],
 ) -> bool {
     let m = r.len();
@@ -584,7 +859,14 @@ fn jacobian_impl<A: MulAdd, const K: u8>(
             // column has m entries.
             ok &= unsafe {
                 crate::avx512::lobe_jacobian(
-                    &coef, c.n, !c.no_r, data, r, &mut cols, &rows, n_scale,
+                    &coef,
+                    c.n,
+                    !c.no_r,
+                    &data.view(0, m),
+                    r,
+                    &mut cols,
+                    &rows,
+                    n_scale,
                 )
             };
             continue;
@@ -625,7 +907,12 @@ mod simd {
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn residuals(coefs: &[Coef], kd: f64, data: &DataSet, r: &mut [f64]) -> bool {
+    pub(super) unsafe fn residuals(
+        coefs: &[Coef],
+        kd: f64,
+        data: &View<'_>,
+        r: &mut [f64],
+    ) -> bool {
         residuals_impl::<Fused, GENERIC>(coefs, kd, data, r)
     }
 
@@ -635,7 +922,7 @@ mod simd {
     pub(super) unsafe fn residuals512(
         coefs: &[Coef],
         kd: f64,
-        data: &DataSet,
+        data: &View<'_>,
         r: &mut [f64],
     ) -> bool {
         residuals_impl::<Fused, AVX512>(coefs, kd, data, r)
@@ -665,5 +952,91 @@ mod simd {
         h: &mut [f64],
     ) -> bool {
         jacobian_impl::<Fused, AVX512>(w, r, jac, g, h)
+    }
+}
+
+mod scalar {
+    //! The reference kernel: one sample at a time, std's libm `powf` and `ln`, no FMA, no
+    //! blocking. Mirrors the failure rules of the fast kernels: a value, `g = n d^n / d` (computed
+    //! as in [`g_factors`], so it fails only when `g` itself overflows) or
+    //! (when the exponent is free) `d^n ln d` that is not finite fails the evaluation.
+    use super::*;
+
+    /// `(P, Q, R, S)` and `d` of lobe `c` at sample `i`.
+    #[inline]
+    fn products(c: &Coef, d: &View<'_>, i: usize) -> ([f64; 4], f64) {
+        let p = d.ux[i] * d.vx[i];
+        let q = d.uy[i] * d.vy[i];
+        let r = d.ux[i] * d.vy[i] + d.uy[i] * d.vx[i];
+        let s = d.uz[i] * d.vz[i];
+        let mut dd = c.ap * p + c.aq * q + c.cz * s;
+        if !c.no_r {
+            dd += c.ar * r;
+        }
+        ([p, q, r, s], dd)
+    }
+
+    #[inline]
+    fn power(dd: f64, n: f64) -> f64 {
+        if dd > 0.0 { dd.powf(n) } else { 0.0 }
+    }
+
+    pub(super) fn residuals(coefs: &[Coef], kd: f64, d: &View<'_>, r: &mut [f64]) -> bool {
+        let mut ok = true;
+        for (i, ri) in r.iter_mut().enumerate() {
+            let mut f = kd;
+            for c in coefs {
+                f += power(products(c, d, i).1, c.n);
+            }
+            *ri = f - d.value[i];
+            ok &= ri.is_finite();
+        }
+        ok
+    }
+
+    pub(super) fn jacobian(w: &JacWork<'_>, r: &mut [f64], jac: &mut [f64]) -> bool {
+        let m = r.len();
+        let d = w.data.view(0, m);
+        for (ri, &y) in r.iter_mut().zip(d.value) {
+            *ri = w.kd - y;
+        }
+        if m == 0 {
+            return true;
+        }
+        for (j, col) in jac.chunks_exact_mut(m).enumerate() {
+            if let Col::Kd = w.cols[j] {
+                col.fill(1.0);
+            }
+        }
+        let mut ok = true;
+        for (l, c) in w.coefs.iter().enumerate() {
+            let (mut cols, rows) = lobe_columns(jac, m, w.cols, l, c);
+            let n_scale = w.coord.dn_dx(c.n);
+            for i in 0..m {
+                let (pqrs, dd) = products(c, &d, i);
+                let f = power(dd, c.n);
+                r[i] += f;
+                let (g, h) = if dd > 0.0 {
+                    let (ga, gb) = g_factors(c.n);
+                    let g = if c.n == 0.0 { 0.0 } else { f * ga / dd * gb };
+                    (g, f * dd.ln())
+                } else {
+                    (0.0, 0.0)
+                };
+                ok &= g.is_finite();
+                for (k, col) in cols.iter_mut().enumerate() {
+                    let Some(col) = col else { continue };
+                    col[i] = if k == 3 {
+                        let v = h * n_scale;
+                        ok &= v.is_finite();
+                        v
+                    } else {
+                        let wk = &rows[k];
+                        g * (wk[0] * pqrs[0] + wk[1] * pqrs[1] + wk[2] * pqrs[2] + wk[3] * pqrs[3])
+                    };
+                }
+            }
+        }
+        ok && r.iter().all(|v| v.is_finite())
     }
 }

@@ -1,36 +1,81 @@
 //! Readers for measured data.
 //!
+//! Every reader fails with a [`DataError`] naming the file, the line (text formats) and what
+//! was expected; none panics, aborts or loops on bad input. Input is bounded: text files by
+//! [`MAX_INPUT_BYTES`] in total and [`MAX_LINE_BYTES`] per line, MERL files by
+//! [`MAX_MERL_BYTES`], every reader by [`MAX_SAMPLES`] sample rows (counted before filtering)
+//! and Cornell files by [`MAX_WAVELENGTHS`]. Text input is read as a stream (at most
+//! the limit plus one byte through [`std::io::Read::take`]), so `/dev/zero` or an endless
+//! pipe fails at once (NUL bytes are refused: the text formats are UTF-8 text) or at the
+//! limit; declared counts are checked against the limits before anything is allocated.
+//!
+//! # Non-finite values
+//! The text readers accept `nan`, `inf`, `infinity` (any case, optional sign) wherever a
+//! number is expected, so that one bad measurement does not make a whole file unreadable;
+//! the [`Filters`] then decide: every constructor except [`Filters::none`] drops samples
+//! whose value or direction is not finite and counts them in [`FilterReport::non_finite`].
+//! A NaN thus reaches a data set only when the caller asked for it (`drop_non_finite:
+//! false`). MERL entries are used as stored, through the same filters.
+//!
 //! # Cornell text format (`*.brdf`)
 //! Comment lines start with `#`; blank lines are ignored. The first number is the count of
-//! wavelengths `W`, then `W` wavelengths in nm (over any number of lines), then one sample per
-//! line: `theta_i phi_i theta_s phi_s` in radians followed by `W` values. Angles become
-//! vectors pointing away from the surface, `(sin t cos p, sin t sin p, cos t)`; the files put
-//! the specular direction at `phi_s = phi_i + pi`, which is where a lobe with `Cx = Cy < 0`
-//! peaks. [`read_cornell`] selects one wavelength (550 nm by default in the CLI).
+//! wavelengths `W` (1 to [`MAX_WAVELENGTHS`]), then `W` wavelengths in nm (over any number of
+//! lines), then one sample per line: `theta_i phi_i theta_s phi_s` in radians followed by `W`
+//! values. Angles become vectors pointing away from the surface,
+//! `(sin t cos p, sin t sin p, cos t)`; the files put the specular direction at
+//! `phi_s = phi_i + pi`, which is where a lobe with `Cx = Cy < 0` peaks. [`read_cornell`]
+//! selects one wavelength (550 nm by default in the CLI).
 //!
 //! # CSV format
 //! A header line names the columns (comma-separated, case-insensitive, surrounding spaces
-//! ignored, extra columns ignored), then one sample per line. Either
+//! ignored), then one sample per line with as many fields as the header. Either
 //! - `ux,uy,uz,vx,vy,vz,value`: direction vectors (normalised on reading; both point away
-//!   from the surface, z = normal), or
+//!   from the surface, z = normal; a zero vector is an error), or
 //! - `theta_i,phi_i,theta_o,phi_o,value`: angles in **degrees** (theta from the normal).
 //!
-//! Lines starting with `#` and blank lines are skipped. `nan`/`inf` values parse and are then
-//! handled by the [`Filters`]. [`DataSet::write_csv`] writes the vector form.
+//! **Extra columns are ignored**: they may appear anywhere and hold anything (text, empty
+//! fields), only the named columns are parsed. A column name given twice is an error. Lines
+//! starting with `#` and blank lines are skipped. [`DataSet::write_csv`] writes the vector
+//! form.
 //!
 //! # MERL binary format
 //! Three little-endian `i32` dimensions `(n_theta_h, n_theta_d, n_phi_d)` — `(90, 90, 180)`
 //! in every file of the real database (34,992,012 bytes) — then `3 * N` little-endian `f64`
 //! (`N` = product of the dims): the red, green and blue blocks. The reader accepts other
-//! dimensions so tests can write small files. Index
+//! dimensions (each 1 to [`MAX_MERL_DIM`], total size at most [`MAX_MERL_BYTES`]) so tests
+//! can write small files. Index
 //! `phi_d_idx + n_phi_d * (theta_d_idx + n_theta_d * theta_h_idx)` with
 //! `theta_h_idx = floor(n_theta_h * sqrt(theta_h / (pi/2)))`, `theta_d_idx` linear over
 //! `[0, pi/2)`, `phi_d` folded into `[0, pi)` by reciprocity. Channel scales: red 1/1500,
-//! green 1.15/1500, blue 1.66/1500. Negative entries mark samples below the horizon.
+//! green 1.15/1500, blue 1.66/1500. Negative entries mark samples below the horizon: they are
+//! counted (and dropped) as [`FilterReport::below_horizon`] when the filters drop
+//! below-horizon samples.
 
 use crate::data::{DataSet, FilterReport, Filters};
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
+
+/// Largest text input (Cornell, CSV) read, in bytes: 1 GiB. A longer input is refused with
+/// [`DataError::Limit`] after reading `MAX_INPUT_BYTES + 1` bytes.
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// Longest line of a text input, in bytes (without the line break): 1 MiB.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Most sample rows a reader accepts (counted before filtering; also the largest synthetic
+/// instance, see [`crate::data::try_synthetic`]): 10,000,000 (about 560 MB as a [`DataSet`]).
+/// The full MERL grid has 1,458,000 cells, the paper's instances 10,000 samples.
+pub const MAX_SAMPLES: usize = crate::data::MAX_SAMPLES;
+
+/// Most wavelengths a Cornell file may declare: 10,000 (the real files have 31).
+pub const MAX_WAVELENGTHS: usize = 10_000;
+
+/// Largest MERL dimension: 4096 (the real database uses 90, 90, 180).
+pub const MAX_MERL_DIM: usize = 4096;
+
+/// Largest MERL file, in bytes: 512 MiB (the real files have 34,992,012 bytes).
+pub const MAX_MERL_BYTES: u64 = 512 << 20;
 
 /// Errors reading a data file. Each names the file; parse errors also name the line (from 1)
 /// and what was expected.
@@ -75,13 +120,140 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
+    /// The input exceeds one of the stated limits ([`MAX_INPUT_BYTES`], [`MAX_LINE_BYTES`],
+    /// [`MAX_SAMPLES`], [`MAX_WAVELENGTHS`], [`MAX_MERL_BYTES`]).
+    #[error("{path}:{line}: {message}")]
+    Limit {
+        /// File.
+        path: PathBuf,
+        /// Line number, from 1 (0 when not tied to a line).
+        line: usize,
+        /// Which limit, its value and what was found.
+        message: String,
+    },
 }
 
-fn read_text(path: &Path) -> Result<String, DataError> {
-    std::fs::read_to_string(path).map_err(|source| DataError::Io {
+fn io_err(path: &Path, source: std::io::Error) -> DataError {
+    DataError::Io {
         path: path.to_path_buf(),
         source,
-    })
+    }
+}
+
+fn open(path: &Path) -> Result<std::fs::File, DataError> {
+    std::fs::File::open(path).map_err(|e| io_err(path, e))
+}
+
+/// Streams the content lines of a text input (blank lines and `#` comments skipped), enforcing
+/// [`MAX_INPUT_BYTES`], [`MAX_LINE_BYTES`], no NUL bytes and UTF-8.
+struct LineSource<'p, R> {
+    reader: R,
+    path: &'p Path,
+    buf: Vec<u8>,
+    total: u64,
+    line: usize,
+}
+
+impl<'p, R: BufRead> LineSource<'p, R> {
+    fn new(reader: R, path: &'p Path) -> Self {
+        LineSource {
+            reader,
+            path,
+            buf: Vec::new(),
+            total: 0,
+            line: 0,
+        }
+    }
+
+    fn limit(&self, message: String) -> DataError {
+        DataError::Limit {
+            path: self.path.to_path_buf(),
+            line: self.line,
+            message,
+        }
+    }
+
+    /// The next non-blank, non-comment line, trimmed, with its number (from 1).
+    fn next_line(&mut self) -> Result<Option<(usize, &str)>, DataError> {
+        loop {
+            self.buf.clear();
+            let left = MAX_INPUT_BYTES + 1 - self.total;
+            let cap = left.min(MAX_LINE_BYTES as u64 + 2);
+            let n = (&mut self.reader)
+                .take(cap)
+                .read_until(b'\n', &mut self.buf)
+                .map_err(|e| io_err(self.path, e))?;
+            if n == 0 {
+                return Ok(None);
+            }
+            self.total += n as u64;
+            self.line += 1;
+            if self.total > MAX_INPUT_BYTES {
+                return Err(self.limit(format!(
+                    "expected at most {MAX_INPUT_BYTES} bytes of text (MAX_INPUT_BYTES), found more"
+                )));
+            }
+            if self.buf.last() == Some(&b'\n') {
+                self.buf.pop();
+                if self.buf.last() == Some(&b'\r') {
+                    self.buf.pop();
+                }
+            }
+            if self.buf.len() > MAX_LINE_BYTES {
+                return Err(self.limit(format!(
+                    "expected lines of at most {MAX_LINE_BYTES} bytes (MAX_LINE_BYTES), found a longer one"
+                )));
+            }
+            if let Some(k) = self.buf.iter().position(|&b| b == 0) {
+                return Err(DataError::Parse {
+                    path: self.path.to_path_buf(),
+                    line: self.line,
+                    expected: "text".into(),
+                    found: format!("a NUL byte at column {} (binary data?)", k + 1),
+                });
+            }
+            let text = match std::str::from_utf8(&self.buf) {
+                Ok(t) => t.trim(),
+                Err(e) => {
+                    return Err(DataError::Parse {
+                        path: self.path.to_path_buf(),
+                        line: self.line,
+                        expected: "UTF-8 text".into(),
+                        found: format!("an invalid byte at column {}", e.valid_up_to() + 1),
+                    });
+                }
+            };
+            if text.is_empty() || text.starts_with('#') {
+                continue;
+            }
+            let line = self.line;
+            // Re-borrow so the returned slice ties to `self.buf` only.
+            let text = std::str::from_utf8(&self.buf).unwrap_or_default().trim();
+            return Ok(Some((line, text)));
+        }
+    }
+}
+
+fn check_text_len(text: &str, path: &Path) -> Result<(), DataError> {
+    if text.len() as u64 > MAX_INPUT_BYTES {
+        return Err(DataError::Limit {
+            path: path.to_path_buf(),
+            line: 0,
+            message: format!(
+                "expected at most {MAX_INPUT_BYTES} bytes of text (MAX_INPUT_BYTES), found {}",
+                text.len()
+            ),
+        });
+    }
+    Ok(())
+}
+
+fn sample_limit(path: &Path, line: usize) -> DataError {
+    DataError::Limit {
+        path: path.to_path_buf(),
+        line,
+        message: format!("expected at most {MAX_SAMPLES} sample rows (MAX_SAMPLES), found more"),
+    }
 }
 
 fn dir_from_angles(theta: f64, phi: f64) -> [f64; 3] {
@@ -100,20 +272,36 @@ fn short(s: &str) -> String {
 }
 
 /// Reads a Cornell `.brdf` file at wavelength `wavelength_nm` (must match one listed in the
-/// file within 1e-6 nm), applying `filters`.
+/// file within 1e-6 nm), applying `filters`. The file is streamed (see the module docs for
+/// the limits).
 pub fn read_cornell(
     path: impl AsRef<Path>,
     wavelength_nm: f64,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
     let path = path.as_ref();
-    let text = read_text(path)?;
-    parse_cornell(&text, path, wavelength_nm, filters)
+    let file = std::io::BufReader::new(open(path)?);
+    cornell_from(LineSource::new(file, path), path, wavelength_nm, filters)
 }
 
 /// Parses Cornell text already in memory; `path` is only used in errors.
 pub fn parse_cornell(
     text: &str,
+    path: &Path,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    check_text_len(text, path)?;
+    cornell_from(
+        LineSource::new(text.as_bytes(), path),
+        path,
+        wavelength_nm,
+        filters,
+    )
+}
+
+fn cornell_from<R: BufRead>(
+    mut lines: LineSource<'_, R>,
     path: &Path,
     wavelength_nm: f64,
     filters: &Filters,
@@ -124,16 +312,12 @@ pub fn parse_cornell(
         expected,
         found,
     };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
     let (ln, first) = lines
-        .next()
+        .next_line()?
         .ok_or_else(|| perr(0, "the number of wavelengths".into(), "end of file".into()))?;
-    let nwl: usize = match first.split_whitespace().collect::<Vec<_>>()[..] {
-        [tok] => tok.parse().ok().filter(|&n: &usize| n > 0),
+    let mut toks = first.split_whitespace();
+    let nwl: usize = match (toks.next(), toks.next()) {
+        (Some(tok), None) => tok.parse().ok().filter(|&n: &usize| n > 0),
         _ => None,
     }
     .ok_or_else(|| {
@@ -143,9 +327,18 @@ pub fn parse_cornell(
             short(first),
         )
     })?;
-    let mut wls = Vec::with_capacity(nwl);
+    if nwl > MAX_WAVELENGTHS {
+        return Err(DataError::Limit {
+            path: path.to_path_buf(),
+            line: ln,
+            message: format!(
+                "expected at most {MAX_WAVELENGTHS} wavelengths (MAX_WAVELENGTHS), the file declares {nwl}"
+            ),
+        });
+    }
+    let mut wls: Vec<f64> = Vec::with_capacity(nwl);
     while wls.len() < nwl {
-        let (ln, l) = lines.next().ok_or_else(|| {
+        let (ln, l) = lines.next_line()?.ok_or_else(|| {
             perr(
                 0,
                 format!("{nwl} wavelengths"),
@@ -153,17 +346,19 @@ pub fn parse_cornell(
             )
         })?;
         for tok in l.split_whitespace() {
+            if wls.len() == nwl {
+                return Err(perr(
+                    ln,
+                    format!("{nwl} wavelengths"),
+                    format!("more numbers (`{}` is extra)", short(tok)),
+                ));
+            }
             let w: f64 = tok
                 .parse()
-                .map_err(|_| perr(ln, "a wavelength in nm".into(), short(tok)))?;
+                .ok()
+                .filter(|w: &f64| w.is_finite())
+                .ok_or_else(|| perr(ln, "a finite wavelength in nm".into(), short(tok)))?;
             wls.push(w);
-        }
-        if wls.len() > nwl {
-            return Err(perr(
-                ln,
-                format!("{nwl} wavelengths"),
-                format!("{} numbers", wls.len()),
-            ));
         }
     }
     let col = wls
@@ -177,9 +372,14 @@ pub fn parse_cornell(
     let mut data = DataSet::new();
     let mut rep = FilterReport::default();
     let width = 4 + nwl;
-    let mut row = Vec::with_capacity(width);
-    for (ln, l) in lines {
-        row.clear();
+    let mut row = [0.0f64; 5];
+    let mut rows = 0usize;
+    while let Some((ln, l)) = lines.next_line()? {
+        rows += 1;
+        if rows > MAX_SAMPLES {
+            return Err(sample_limit(path, ln));
+        }
+        let mut count = 0usize;
         for tok in l.split_whitespace() {
             let v: f64 = tok.parse().map_err(|_| {
                 perr(
@@ -188,18 +388,23 @@ pub fn parse_cornell(
                     short(tok),
                 )
             })?;
-            row.push(v);
+            if count < 4 {
+                row[count] = v;
+            } else if count == 4 + col {
+                row[4] = v;
+            }
+            count += 1;
         }
-        if row.len() != width {
+        if count != width {
             return Err(perr(
                 ln,
                 format!("{width} numbers (4 angles in radians and {nwl} values)"),
-                format!("{} numbers", row.len()),
+                format!("{count} numbers"),
             ));
         }
         let u = dir_from_angles(row[0], row[1]);
         let v = dir_from_angles(row[2], row[3]);
-        let y = row[4 + col];
+        let y = row[4];
         if filters.admit(u, v, y, &mut rep) {
             data.push(u, v, y);
         }
@@ -207,19 +412,45 @@ pub fn parse_cornell(
     Ok((data, rep))
 }
 
-/// Reads a CSV file (format in the module docs), applying `filters`.
+/// Reads a CSV file (format in the module docs), applying `filters`. The file is streamed
+/// (see the module docs for the limits).
 pub fn read_csv(
     path: impl AsRef<Path>,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
     let path = path.as_ref();
-    let text = read_text(path)?;
-    parse_csv(&text, path, filters)
+    let file = std::io::BufReader::new(open(path)?);
+    csv_from(LineSource::new(file, path), path, filters)
 }
 
 /// Parses CSV already in memory; `path` is only used in errors.
 pub fn parse_csv(
     text: &str,
+    path: &Path,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    check_text_len(text, path)?;
+    csv_from(LineSource::new(text.as_bytes(), path), path, filters)
+}
+
+/// Normalises a direction given by finite or non-finite components: `Ok(None)` for a zero
+/// vector, non-finite components are passed through (the filters count them).
+fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
+    if a.iter().any(|c| !c.is_finite()) {
+        return Some(a);
+    }
+    // Scale first so that huge or tiny components neither overflow nor underflow.
+    let m = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if m == 0.0 {
+        return None;
+    }
+    let b = [a[0] / m, a[1] / m, a[2] / m];
+    let len = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+    Some([b[0] / len, b[1] / len, b[2] / len])
+}
+
+fn csv_from<R: BufRead>(
+    mut lines: LineSource<'_, R>,
     path: &Path,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
@@ -229,81 +460,88 @@ pub fn parse_csv(
         expected,
         found,
     };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    const HEADER: &str =
-        "a header naming ux,uy,uz,vx,vy,vz,value or theta_i,phi_i,theta_o,phi_o,value";
+    const HEADER: &str = "a header naming ux,uy,uz,vx,vy,vz,value or theta_i,phi_i,theta_o,phi_o,value (extra columns are ignored)";
     let (hl, header) = lines
-        .next()
+        .next_line()?
         .ok_or_else(|| perr(0, HEADER.into(), "end of file".into()))?;
     let names: Vec<String> = header
         .split(',')
         .map(|s| s.trim().to_ascii_lowercase())
         .collect();
+    let header_short = short(header);
     let find = |n: &str| names.iter().position(|h| h == n);
-    let vec_cols: Option<Vec<usize>> = ["ux", "uy", "uz", "vx", "vy", "vz", "value"]
-        .iter()
-        .map(|n| find(n))
-        .collect();
-    let ang_cols: Option<Vec<usize>> = ["theta_i", "phi_i", "theta_o", "phi_o", "value"]
-        .iter()
-        .map(|n| find(n))
-        .collect();
+    const VEC: [&str; 7] = ["ux", "uy", "uz", "vx", "vy", "vz", "value"];
+    const ANG: [&str; 5] = ["theta_i", "phi_i", "theta_o", "phi_o", "value"];
+    let vec_cols: Option<Vec<usize>> = VEC.iter().map(|n| find(n)).collect();
+    let ang_cols: Option<Vec<usize>> = ANG.iter().map(|n| find(n)).collect();
     let (cols, angles) = match (vec_cols, ang_cols) {
         (Some(c), _) => (c, false),
         (None, Some(c)) => (c, true),
-        (None, None) => return Err(perr(hl, HEADER.into(), short(header))),
+        (None, None) => return Err(perr(hl, HEADER.into(), header_short)),
     };
+    let wanted: &[&str] = if angles { &ANG } else { &VEC };
+    for n in wanted {
+        if names.iter().filter(|h| h == n).count() > 1 {
+            return Err(perr(
+                hl,
+                format!("each column name once in the header (`{n}` is repeated)"),
+                header_short,
+            ));
+        }
+    }
+    let ncols = names.len();
+    // slot[k] = Some(j): field k is column j of the wanted list.
+    let mut slot: Vec<Option<usize>> = vec![None; ncols];
+    for (j, &c) in cols.iter().enumerate() {
+        slot[c] = Some(j);
+    }
     let mut data = DataSet::new();
     let mut rep = FilterReport::default();
-    let mut fields: Vec<f64> = Vec::with_capacity(names.len());
-    for (ln, l) in lines {
-        fields.clear();
+    let mut vals = [0.0f64; 7];
+    let mut rows = 0usize;
+    while let Some((ln, l)) = lines.next_line()? {
+        rows += 1;
+        if rows > MAX_SAMPLES {
+            return Err(sample_limit(path, ln));
+        }
+        let mut count = 0usize;
         for (k, tok) in l.split(',').enumerate() {
+            count += 1;
+            let Some(j) = slot.get(k).copied().flatten() else {
+                continue;
+            };
             let tok = tok.trim();
-            let v: f64 = tok.parse().map_err(|_| {
+            vals[j] = tok.parse().map_err(|_| {
                 perr(
                     ln,
-                    format!("a number in column `{}`", names.get(k).map_or("?", |s| s)),
+                    format!("a number in column `{}`", wanted[j]),
                     short(tok),
                 )
             })?;
-            fields.push(v);
         }
-        if fields.len() != names.len() {
+        if count != ncols {
             return Err(perr(
                 ln,
-                format!("{} comma-separated fields as in the header", names.len()),
-                format!("{} fields", fields.len()),
+                format!("{ncols} comma-separated fields as in the header"),
+                format!("{count} fields"),
             ));
         }
-        let get = |k: usize| fields[cols[k]];
         let (u, v, y) = if angles {
             (
-                dir_from_angles(get(0).to_radians(), get(1).to_radians()),
-                dir_from_angles(get(2).to_radians(), get(3).to_radians()),
-                get(4),
+                dir_from_angles(vals[0].to_radians(), vals[1].to_radians()),
+                dir_from_angles(vals[2].to_radians(), vals[3].to_radians()),
+                vals[4],
             )
         } else {
-            let norm = |a: [f64; 3], what: &str| -> Result<[f64; 3], DataError> {
-                let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-                if len > 0.0 && len.is_finite() {
-                    Ok([a[0] / len, a[1] / len, a[2] / len])
-                } else {
-                    Err(perr(
-                        ln,
-                        format!("a non-zero finite direction {what}"),
-                        format!("{a:?}"),
-                    ))
-                }
+            let norm = |a: [f64; 3], what: &str| {
+                normalise(a).ok_or_else(|| {
+                    perr(ln, format!("a non-zero direction {what}"), format!("{a:?}"))
+                })
             };
             (
-                norm([get(0), get(1), get(2)], "u")?,
-                norm([get(3), get(4), get(5)], "v")?,
-                get(6),
+                norm([vals[0], vals[1], vals[2]], "u")?,
+                norm([vals[3], vals[4], vals[5]], "v")?,
+                vals[6],
             )
         };
         if filters.admit(u, v, y, &mut rep) {
@@ -362,53 +600,97 @@ fn rotate(v: [f64; 3], axis: [f64; 3], angle: f64) -> [f64; 3] {
     ]
 }
 
+/// Checks a MERL header and returns the dims and the file size they imply.
+fn merl_header(head: &[u8], path: &Path) -> Result<((usize, usize, usize), u64), DataError> {
+    let berr = |message: String| DataError::Binary {
+        path: path.to_path_buf(),
+        message,
+    };
+    if head.len() < 12 {
+        return Err(berr(format!(
+            "expected a 12-byte header of three int32 dims, found {} bytes",
+            head.len()
+        )));
+    }
+    let dim = |k: usize| {
+        let mut b = [0u8; 4];
+        b.copy_from_slice(&head[4 * k..4 * k + 4]);
+        i32::from_le_bytes(b)
+    };
+    let (a, b, c) = (dim(0), dim(1), dim(2));
+    let ok = |d: i32| d > 0 && d as usize <= MAX_MERL_DIM;
+    if !(ok(a) && ok(b) && ok(c)) {
+        return Err(berr(format!(
+            "expected three dims in [1, {MAX_MERL_DIM}] (MAX_MERL_DIM; 90, 90, 180 in the real \
+             database), found ({a}, {b}, {c})"
+        )));
+    }
+    // At most 4096^3 * 24 + 12 bytes: no overflow in u64.
+    let n = a as u64 * b as u64 * c as u64;
+    let want = 12 + 3 * n * 8;
+    if want > MAX_MERL_BYTES {
+        return Err(DataError::Limit {
+            path: path.to_path_buf(),
+            line: 0,
+            message: format!(
+                "dims ({a}, {b}, {c}) imply {want} bytes; expected at most {MAX_MERL_BYTES} \
+                 (MAX_MERL_BYTES)"
+            ),
+        });
+    }
+    Ok(((a as usize, b as usize, c as usize), want))
+}
+
 impl MerlBrdf {
-    /// Reads a MERL binary file (format in the module docs).
+    /// Reads a MERL binary file (format in the module docs). The header is checked before the
+    /// table is read, and at most the size it implies plus one byte is read.
     pub fn read(path: impl AsRef<Path>) -> Result<Self, DataError> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| DataError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let mut file = open(path)?;
+        let mut head = Vec::with_capacity(12);
+        (&mut file)
+            .take(12)
+            .read_to_end(&mut head)
+            .map_err(|e| io_err(path, e))?;
+        let (_, want) = merl_header(&head, path)?;
+        let mut bytes = Vec::with_capacity(want as usize);
+        bytes.extend_from_slice(&head);
+        file.take(want - 12 + 1)
+            .read_to_end(&mut bytes)
+            .map_err(|e| io_err(path, e))?;
+        if bytes.len() as u64 > want {
+            return Err(DataError::Binary {
+                path: path.to_path_buf(),
+                message: format!("expected {want} bytes for the dims in the header, found more"),
+            });
+        }
         Self::from_bytes(&bytes, path)
     }
 
     /// Parses a MERL table already in memory; `path` is only used in errors.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self, DataError> {
-        let berr = |message: String| DataError::Binary {
-            path: path.to_path_buf(),
-            message,
-        };
-        if bytes.len() < 12 {
-            return Err(berr(format!(
-                "expected a 12-byte header of three int32 dims, found {} bytes",
-                bytes.len()
-            )));
-        }
-        let dim =
-            |k: usize| i32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap_or([0; 4]));
-        let (a, b, c) = (dim(0), dim(1), dim(2));
-        if a <= 0 || b <= 0 || c <= 0 || a > 4096 || b > 4096 || c > 4096 {
-            return Err(berr(format!(
-                "expected positive dims (90, 90, 180 in the real database), found ({a}, {b}, {c})"
-            )));
-        }
-        let n = a as usize * b as usize * c as usize;
-        let want = 12 + 3 * n * 8;
-        if bytes.len() != want {
-            return Err(berr(format!(
-                "expected {want} bytes for dims ({a}, {b}, {c}), found {}",
-                bytes.len()
-            )));
+        let (dims, want) = merl_header(bytes, path)?;
+        if bytes.len() as u64 != want {
+            return Err(DataError::Binary {
+                path: path.to_path_buf(),
+                message: format!(
+                    "expected {want} bytes for dims ({}, {}, {}), found {}",
+                    dims.0,
+                    dims.1,
+                    dims.2,
+                    bytes.len()
+                ),
+            });
         }
         let table = bytes[12..]
             .chunks_exact(8)
-            .map(|ch| f64::from_le_bytes(ch.try_into().unwrap_or([0; 8])))
+            .map(|ch| {
+                let mut b = [0u8; 8];
+                b.copy_from_slice(ch);
+                f64::from_le_bytes(b)
+            })
             .collect();
-        Ok(MerlBrdf {
-            dims: (a as usize, b as usize, c as usize),
-            table,
-        })
+        Ok(MerlBrdf { dims, table })
     }
 
     /// Serialises the table in the MERL binary format.
@@ -428,6 +710,10 @@ impl MerlBrdf {
     }
 
     /// Table index of directions `u` (incident), `v` (exitant), unit vectors, z = normal.
+    ///
+    /// # Panics
+    /// When a dim is 0 or the table is shorter than `3 *` the product of the dims (possible
+    /// only for a value built by hand: [`MerlBrdf::read`] and [`MerlBrdf::from_bytes`] check).
     pub fn index(&self, u: [f64; 3], v: [f64; 3]) -> usize {
         let (nth, ntd, npd) = self.dims;
         let h = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
@@ -461,7 +747,8 @@ impl MerlBrdf {
         self.table[channel.index() * self.cells() + self.index(u, v)] * channel.scale()
     }
 
-    /// Samples `channel` at the given direction pairs, applying `filters`.
+    /// Samples `channel` at the given direction pairs, applying `filters` (negative entries
+    /// count as below the horizon).
     pub fn sample_at(
         &self,
         channel: Channel,
@@ -472,7 +759,7 @@ impl MerlBrdf {
         let mut rep = FilterReport::default();
         for &(u, v) in dirs {
             let y = self.lookup(channel, u, v);
-            if filters.admit(u, v, y, &mut rep) {
+            if filters.admit_marked(u, v, y, y < 0.0, &mut rep) {
                 data.push(u, v, y);
             }
         }
@@ -481,7 +768,8 @@ impl MerlBrdf {
 
     /// Samples `channel` on the table's own grid: one sample per cell, at the cell's centre
     /// in `(theta_h, theta_d, phi_d)` with `phi_h = 0`, applying `filters` (cells whose
-    /// directions fall below the horizon or hold negative entries are dropped by default).
+    /// directions fall below the horizon or hold negative entries, which mark samples below the
+    /// horizon, are dropped when `filters.drop_below_horizon`).
     pub fn sample_grid(&self, channel: Channel, filters: &Filters) -> (DataSet, FilterReport) {
         let (nth, ntd, npd) = self.dims;
         let mut data = DataSet::with_capacity(self.cells());
@@ -505,7 +793,7 @@ impl MerlBrdf {
                     ];
                     let idx = ip + npd * (id + ntd * ih);
                     let y = self.table[base + idx] * channel.scale();
-                    if filters.admit(u, v, y, &mut rep) {
+                    if filters.admit_marked(u, v, y, y < 0.0, &mut rep) {
                         data.push(u, v, y);
                     }
                 }
@@ -573,7 +861,7 @@ mod tests {
             &Filters::default(),
         )
         .unwrap_err();
-        assert!(e.to_string().contains("non-zero finite direction u"), "{e}");
+        assert!(e.to_string().contains("non-zero direction u"), "{e}");
         assert!(matches!(
             parse_csv("", p(), &Filters::default()),
             Err(DataError::Parse { line: 0, .. })

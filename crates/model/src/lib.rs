@@ -33,13 +33,16 @@ pub mod io;
 pub mod layout;
 pub mod params;
 
-pub use data::{DataSet, FilterReport, Filters, Subsampler, synthetic, uniform_hemisphere};
-pub use eval::{Evaluator, SimdLevel};
+pub use data::{
+    DataSet, FilterReport, Filters, MAX_SAMPLES, MAX_SIGMA, Subsampler, synthetic, try_synthetic,
+    uniform_hemisphere,
+};
+pub use eval::{Evaluator, Kernel, KernelError, SUM_BLOCK, SimdLevel, SumBelow};
 pub use io::{
     Channel, DataError, MerlBrdf, parse_cornell, parse_csv, read_cornell, read_csv, read_merl,
 };
 pub use layout::{ExponentCoord, Layout, LayoutBuilder, LobeKind, ModelError, is_parameter_name};
-pub use params::{BrdfParams, Lobe, NAMED_PARAMS, named_params};
+pub use params::{BrdfParams, Lobe, NAMED_PARAMS, ParamError, named_params};
 
 /// Default wavelength (nm) for Cornell files, as in the paper.
 pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;

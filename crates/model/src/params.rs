@@ -2,13 +2,110 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Table 1 bounds of `kd` (the same as [`crate::Layout`]'s defaults).
+pub const KD_BOUNDS: (f64, f64) = (0.0, 1.0);
+/// Table 1 bounds of `cx`, `cy` and `cz`.
+pub const C_BOUNDS: (f64, f64) = (-1.5, 1.5);
+/// Table 1 bounds of the exponent `n`.
+pub const N_BOUNDS: (f64, f64) = (0.0, 10000.0);
+/// Table 1 bounds of the pan angle, degrees.
+pub const PAN_BOUNDS: (f64, f64) = (-90.0, 90.0);
+/// Most lobes [`BrdfParams::validate`] accepts (the paper fits up to 3).
+pub const MAX_LOBES: usize = 64;
+
+/// Invalid parameters or synthetic-instance settings; each message names the offending
+/// parameter and what was expected.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    /// A parameter is not finite or outside its Table 1 bounds.
+    #[error("{name} = {}: expected a finite value in [{lo}, {hi}]", num(*.value))]
+    OutOfRange {
+        /// Parameter name as in [`BrdfParams::get`] (`kd`, `lobe1.cz`, `lobe2.pan`, ...).
+        name: String,
+        /// The value given.
+        value: f64,
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound.
+        hi: f64,
+    },
+    /// More lobes than [`MAX_LOBES`].
+    #[error("{count} lobes: expected at most {MAX_LOBES} (MAX_LOBES)")]
+    TooManyLobes {
+        /// Lobes given.
+        count: usize,
+    },
+    /// A synthetic sample count of 0 or above [`crate::data::MAX_SAMPLES`].
+    #[error(
+        "sample count {count}: expected 1 to {} (MAX_SAMPLES)",
+        crate::data::MAX_SAMPLES
+    )]
+    SampleCount {
+        /// Count given.
+        count: usize,
+    },
+    /// A noise level that is not finite, negative or above [`crate::data::MAX_SIGMA`].
+    #[error(
+        "sigma = {}: expected a finite value in [0, {}] (MAX_SIGMA)",
+        num(*.sigma),
+        crate::data::MAX_SIGMA
+    )]
+    Sigma {
+        /// Sigma given.
+        sigma: f64,
+    },
+    /// The parameters give a NaN or infinite model value (a huge exponent overflowing).
+    #[error(
+        "the parameters give the non-finite value {} at synthetic sample {index}: \
+         expected finite values (lower the exponents or the C's)",
+        num(*.value)
+    )]
+    NonFiniteValue {
+        /// Sample index (from 0).
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// Formats a number readably: exponent form when huge or tiny (`1e300`, not 301 digits).
+fn num(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+fn check(
+    name: impl FnOnce() -> String,
+    value: f64,
+    (lo, hi): (f64, f64),
+) -> Result<(), ParamError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ParamError::OutOfRange {
+            name: name(),
+            value,
+            lo,
+            hi,
+        })
+    }
+}
+
 /// One generalised cosine lobe in physical coordinates.
 ///
 /// The lobe contributes `max(0, cx u'x v'x + cy u'y v'y + cz uz vz)^n`, where `u'`, `v'` are the
 /// directions rotated about the normal so that the lobe's x axis lies at angle `pan_deg` from the
 /// surface x axis: `u'x = cos(p) ux + sin(p) uy`, `u'y = -sin(p) ux + cos(p) uy`.
 /// An isotropic lobe has `cx == cy` (then `pan_deg` has no effect).
+///
+/// Deserialising refuses unknown fields, so that a typo (`pan = 45`) is an error rather than
+/// a silently ignored key.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Lobe {
     /// Weight of the x product (after rotation).
     pub cx: f64,
@@ -50,7 +147,11 @@ impl Lobe {
 }
 
 /// A complete parameter set: the constant diffuse term plus any number of lobes.
+///
+/// Deserialising refuses unknown fields; it does not check values: call
+/// [`BrdfParams::validate`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BrdfParams {
     /// The constant BRDF term (the paper's "Diffuse"); the diffuse albedo is `rho_d = pi * kd`.
     pub kd: f64,
@@ -63,6 +164,28 @@ impl BrdfParams {
     /// away from the surface, z is the normal).
     pub fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
         self.kd + self.lobes.iter().map(|l| l.value(u, v)).sum::<f64>()
+    }
+
+    /// Checks that every value is finite and inside the paper's Table 1 box ([`KD_BOUNDS`],
+    /// [`C_BOUNDS`] for cx, cy, cz, [`N_BOUNDS`], [`PAN_BOUNDS`]) and that there are at most
+    /// [`MAX_LOBES`] lobes. The error names the first offending parameter, e.g.
+    /// `lobe1.cz = 5: expected a finite value in [-1.5, 1.5]`.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check(|| "kd".into(), self.kd, KD_BOUNDS)?;
+        if self.lobes.len() > MAX_LOBES {
+            return Err(ParamError::TooManyLobes {
+                count: self.lobes.len(),
+            });
+        }
+        for (k, l) in self.lobes.iter().enumerate() {
+            let k = k + 1;
+            check(|| format!("lobe{k}.cx"), l.cx, C_BOUNDS)?;
+            check(|| format!("lobe{k}.cy"), l.cy, C_BOUNDS)?;
+            check(|| format!("lobe{k}.cz"), l.cz, C_BOUNDS)?;
+            check(|| format!("lobe{k}.n"), l.n, N_BOUNDS)?;
+            check(|| format!("lobe{k}.pan"), l.pan_deg, PAN_BOUNDS)?;
+        }
+        Ok(())
     }
 
     /// The diffuse albedo `rho_d = pi * kd`.
@@ -201,6 +324,52 @@ mod tests {
             assert!(named_params(name).is_some());
         }
         assert!(named_params("nope").is_none());
+    }
+
+    #[test]
+    fn bounds_agree_with_layout_and_validate_names_the_parameter() {
+        use crate::{Layout, LobeKind};
+        let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
+        assert_eq!(layout.physical_bounds("kd"), Some(KD_BOUNDS));
+        for c in ["cx", "cy", "cz"] {
+            assert_eq!(
+                layout.physical_bounds(&format!("lobe1.{c}")),
+                Some(C_BOUNDS)
+            );
+        }
+        assert_eq!(layout.physical_bounds("lobe1.n"), Some(N_BOUNDS));
+        assert_eq!(layout.physical_bounds("lobe1.pan"), Some(PAN_BOUNDS));
+        for name in NAMED_PARAMS {
+            named_params(name).unwrap().validate().unwrap();
+        }
+        let mut p = named_params("cross").unwrap();
+        p.lobes[0].cz = 5.0;
+        let e = p.validate().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "lobe1.cz = 5: expected a finite value in [-1.5, 1.5]"
+        );
+        p.lobes[0].cz = 0.5;
+        p.lobes[1].pan_deg = f64::NAN;
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .starts_with("lobe2.pan = NaN")
+        );
+        p.lobes[1].pan_deg = 0.0;
+        p.kd = -0.1;
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .starts_with("kd = -0.1")
+        );
+        p.kd = 0.1;
+        p.lobes[1].n = 1e5;
+        assert!(p.validate().unwrap_err().to_string().contains("[0, 10000]"));
+        p.lobes = vec![Lobe::isotropic(0.0, 1.0, 1.0); MAX_LOBES + 1];
+        assert!(matches!(p.validate(), Err(ParamError::TooManyLobes { .. })));
     }
 
     #[test]

@@ -177,3 +177,169 @@ fn merl_small_file_lookup_and_grid() {
     }
     assert_eq!(at, expect);
 }
+
+/// Issue 11: declared counts beyond the limits, endless or binary input, and huge lines give
+/// quick errors naming the file, the line and the limit (no allocation abort, no hang).
+#[test]
+fn limits_give_quick_clear_errors() {
+    use brdf_model::io::{MAX_LINE_BYTES, MAX_WAVELENGTHS};
+    let dir = tempfile::tempdir().unwrap();
+    let huge = dir.path().join("huge.brdf");
+    std::fs::write(&huge, "# fuzz\n4000000000\n550\n0 0 0 0 1\n").unwrap();
+    let e = read_cornell(&huge, 550.0, &Filters::default()).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, DataError::Limit { line: 2, .. }), "{msg}");
+    assert!(
+        msg.contains("huge.brdf:2")
+            && msg.contains(&MAX_WAVELENGTHS.to_string())
+            && msg.contains("MAX_WAVELENGTHS")
+            && msg.contains("4000000000"),
+        "{msg}"
+    );
+    // A count too large even for usize is a parse error on that line.
+    std::fs::write(&huge, "99999999999999999999999\n").unwrap();
+    let e = read_cornell(&huge, 550.0, &Filters::default()).unwrap_err();
+    assert!(matches!(e, DataError::Parse { line: 1, .. }), "{e}");
+
+    // A line longer than MAX_LINE_BYTES.
+    let long = dir.path().join("long.csv");
+    std::fs::write(&long, vec![b'1'; MAX_LINE_BYTES + 10]).unwrap();
+    let e = read_csv(&long, &Filters::default()).unwrap_err();
+    assert!(e.to_string().contains("MAX_LINE_BYTES"), "{e}");
+
+    // NUL bytes: an error on line 1 straight away, for a file and for /dev/zero.
+    let nul = dir.path().join("nul.csv");
+    std::fs::write(&nul, [0u8; 64]).unwrap();
+    let e = read_csv(&nul, &Filters::default()).unwrap_err();
+    assert!(e.to_string().contains("nul.csv:1: expected text"), "{e}");
+    let zero = std::path::Path::new("/dev/zero");
+    if zero.exists() {
+        let t = std::time::Instant::now();
+        assert!(read_csv(zero, &Filters::default()).is_err());
+        assert!(read_cornell(zero, 550.0, &Filters::default()).is_err());
+        let e = read_merl(zero, Channel::Green, &Filters::default()).unwrap_err();
+        assert!(e.to_string().contains("expected three dims"), "{e}");
+        assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
+    }
+
+    // MERL dims whose size passes MAX_MERL_BYTES are refused before reading the table.
+    let big = dir.path().join("big.binary");
+    let mut bytes = Vec::new();
+    for d in [4096i32, 4096, 4096] {
+        bytes.extend_from_slice(&d.to_le_bytes());
+    }
+    std::fs::write(&big, &bytes).unwrap();
+    let e = read_merl(&big, Channel::Red, &Filters::default()).unwrap_err();
+    assert!(e.to_string().contains("MAX_MERL_BYTES"), "{e}");
+    // Trailing bytes after the table are an error too.
+    let brdf = MerlBrdf {
+        dims: (1, 1, 2),
+        table: vec![1.0; 6],
+    };
+    let mut bytes = brdf.to_bytes();
+    bytes.push(0);
+    std::fs::write(&big, &bytes).unwrap();
+    let e = read_merl(&big, Channel::Red, &Filters::default()).unwrap_err();
+    assert!(e.to_string().contains("expected 60 bytes"), "{e}");
+}
+
+/// The CSV docs say extra columns are ignored: they may hold anything.
+#[test]
+fn csv_extra_columns_are_ignored_and_repeated_names_refused() {
+    let p = std::path::Path::new("x.csv");
+    let text = "note, theta_i,phi_i,theta_o,phi_o,value,comment\n\
+                krylon,10,0,20,180,0.5,\"hello\"\n\
+                ,10,0,20,180,0.25,\n";
+    let (d, rep) = brdf_model::parse_csv(text, p, &Filters::default()).unwrap();
+    assert_eq!((d.len(), rep.read), (2, 2));
+    assert_eq!(d.values(), &[0.5, 0.25]);
+    // Rows still need the header's field count.
+    let e = brdf_model::parse_csv(
+        "ux,uy,uz,vx,vy,vz,value,w\n0,0,1,0,0,1,1\n",
+        p,
+        &Filters::default(),
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("x.csv:2: expected 8 comma-separated"),
+        "{e}"
+    );
+    let e = brdf_model::parse_csv("ux,uy,uz,vx,vy,vz,value,value\n", p, &Filters::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("`value` is repeated"), "{e}");
+}
+
+/// Non-finite values parse and are counted and dropped by every filter set but `none()`.
+#[test]
+fn non_finite_values_are_counted_and_dropped() {
+    let p = std::path::Path::new("x.csv");
+    let text = "ux,uy,uz,vx,vy,vz,value\n\
+                0,0,1,0,0,1,nan\n\
+                0,0,1,0,0,1,inf\n\
+                0,0,1,inf,0,1,0.5\n\
+                1e300,1e300,1e300,0,0,1e-300,-0.01\n";
+    let (d, rep) = brdf_model::parse_csv(text, p, &Filters::default()).unwrap();
+    assert_eq!((rep.read, rep.non_finite, rep.kept), (4, 3, 1));
+    // Huge and tiny components normalise without overflow; the negative value is kept.
+    let s = 1.0 / 3f64.sqrt();
+    assert!(d.u(0).iter().all(|c| (c - s).abs() < 1e-15), "{:?}", d.u(0));
+    assert_eq!(d.v(0), [0.0, 0.0, 1.0]);
+    assert_eq!(d.value(0), -0.01);
+    let (_, rep) = brdf_model::parse_csv(text, p, &Filters::paper()).unwrap();
+    assert_eq!((rep.non_finite, rep.negative, rep.kept), (3, 1, 0));
+    let (all, _) = brdf_model::parse_csv(text, p, &Filters::none()).unwrap();
+    assert_eq!(all.len(), 4);
+    assert!(all.value(0).is_nan());
+}
+
+/// One default policy: negative values (noise) are kept, non-finite and below-horizon
+/// samples dropped; MERL's negative entries count as below the horizon.
+#[test]
+fn default_filters_keep_negative_noise() {
+    let d = brdf_model::synthetic(&named_params("tuning").unwrap(), 2000, 0.1, 5);
+    let (kept, rep) = Filters::default().apply(&d);
+    assert!(d.values().iter().any(|&v| v < 0.0));
+    assert_eq!(kept, d);
+    assert_eq!(rep.dropped(), 0);
+    let brdf = MerlBrdf {
+        dims: (1, 1, 2),
+        table: vec![-1.0, 3.0, -1.0, 3.0, -1.0, 3.0],
+    };
+    let (grid, rep) = brdf.sample_grid(Channel::Red, &Filters::default());
+    assert_eq!((grid.len(), rep.below_horizon, rep.negative), (1, 1, 0));
+}
+
+#[test]
+fn try_synthetic_checks_its_inputs() {
+    use brdf_model::data::{MAX_SAMPLES, try_synthetic};
+    let p = named_params("tuning").unwrap();
+    assert_eq!(
+        try_synthetic(&p, 100, 0.1, 3).unwrap(),
+        brdf_model::synthetic(&p, 100, 0.1, 3)
+    );
+    let msg = |r: Result<DataSet, brdf_model::params::ParamError>| r.unwrap_err().to_string();
+    assert!(msg(try_synthetic(&p, MAX_SAMPLES + 1, 0.1, 3)).contains("MAX_SAMPLES"));
+    assert!(msg(try_synthetic(&p, 0, 0.1, 3)).contains("sample count 0"));
+    assert!(msg(try_synthetic(&p, 10, 1e300, 3)).starts_with("sigma = 1e300"));
+    assert!(msg(try_synthetic(&p, 10, -0.1, 3)).starts_with("sigma = -0.1"));
+    assert!(msg(try_synthetic(&p, 10, f64::NAN, 3)).starts_with("sigma = NaN"));
+    let mut bad = p.clone();
+    bad.lobes[0].cz = 5.0;
+    assert_eq!(
+        msg(try_synthetic(&bad, 10, 0.1, 3)),
+        "lobe1.cz = 5: expected a finite value in [-1.5, 1.5]"
+    );
+    // In the box but overflowing: (1.5 * cos^2)^10000 is infinite near the normal.
+    let over = brdf_model::BrdfParams {
+        kd: 0.0,
+        lobes: vec![brdf_model::Lobe::isotropic(0.0, 1.5, 10000.0)],
+    };
+    assert!(msg(try_synthetic(&over, 1000, 0.0, 3)).contains("non-finite"));
+    // Parameter JSON refuses unknown keys (a typo would otherwise be silently ignored).
+    let e = serde_json::from_str::<brdf_model::BrdfParams>(
+        r#"{"kd":0.1,"lobes":[{"cx":-1,"cy":-1,"cz":1,"n":10,"pan":45}]}"#,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("unknown field `pan`"), "{e}");
+}
