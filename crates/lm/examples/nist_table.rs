@@ -1,7 +1,7 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
 //! radius rule) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
-//! `cargo run -p bounded-lm --release --example nist_table`.
+//! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
 #[path = "../tests/common/nist.rs"]
 mod nist;
@@ -103,9 +103,13 @@ fn main() {
         );
     }
     out.push_str(&tables);
-    let path = format!("{}/../../results/nist-lm.md", env!("CARGO_MANIFEST_DIR"));
-    std::fs::create_dir_all(format!("{}/../../results", env!("CARGO_MANIFEST_DIR")))
-        .expect("results dir");
+    // An optional argument writes the table elsewhere.
+    let path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| format!("{}/../../results/nist-lm.md", env!("CARGO_MANIFEST_DIR")));
+    if let Some(dir) = std::path::Path::new(&path).parent() {
+        std::fs::create_dir_all(dir).expect("results dir");
+    }
     std::fs::write(&path, out).expect("write results/nist-lm.md");
     println!("wrote {path}");
 }

@@ -38,7 +38,22 @@ pub(crate) fn householder_qr(a: &mut [f64], rows: usize, cols: usize, rhs: &mut 
     for k in 0..rows.min(cols) {
         let (head, tail) = a.split_at_mut((k + 1) * rows);
         let v = &mut head[k * rows + k..(k + 1) * rows];
-        let alpha0 = norm(v);
+        let mut alpha0 = norm(v);
+        // Far from 1 the squares under- or overflow (a column of 1e-160 gave inf and NaN in R):
+        // rescale the column first. The reflector `I - beta v v^T` does not depend on the scale
+        // of v, only R's diagonal entry does (restored below).
+        let mut scale = 1.0;
+        if !(alpha0 > 1e-140 && alpha0 < 1e140) {
+            let amax = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            if amax == 0.0 || !amax.is_finite() {
+                continue;
+            }
+            scale = amax;
+            for x in v.iter_mut() {
+                *x /= amax;
+            }
+            alpha0 = norm(v);
+        }
         if alpha0 == 0.0 {
             continue;
         }
@@ -47,6 +62,9 @@ pub(crate) fn householder_qr(a: &mut [f64], rows: usize, cols: usize, rhs: &mut 
         let vtv = dot(v, v);
         if vtv == 0.0 {
             v[0] += alpha;
+            for x in v.iter_mut() {
+                *x *= scale;
+            }
             continue;
         }
         let beta = 2.0 / vtv;
@@ -63,7 +81,7 @@ pub(crate) fn householder_qr(a: &mut [f64], rows: usize, cols: usize, rhs: &mut 
             *c -= w * vi;
         }
         // Store R's diagonal; the reflector below it is no longer needed.
-        v[0] = alpha;
+        v[0] = alpha * scale;
         for vi in v[1..].iter_mut() {
             *vi = 0.0;
         }

@@ -13,6 +13,13 @@ pub trait Problem {
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool;
     /// Column-major Jacobian at `x` into `jac` (length `m * p`). Return `false` on failure.
     fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool;
+    /// Asked once per iteration, before the Jacobian is evaluated: return `true` to end the
+    /// solve with [`crate::Outcome::Interrupted`] (code 11, NL2SOL's STOPX), `x` holding the
+    /// last accepted point. The hook for a caller's clock (a CPU-time cutoff inside a long
+    /// descent); keep it cheap. The default never stops.
+    fn should_stop(&mut self) -> bool {
+        false
+    }
 }
 
 impl<P: Problem + ?Sized> Problem for &mut P {
@@ -28,6 +35,9 @@ impl<P: Problem + ?Sized> Problem for &mut P {
     fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool {
         (**self).jacobian(x, jac)
     }
+    fn should_stop(&mut self) -> bool {
+        (**self).should_stop()
+    }
 }
 
 /// A least-squares problem that can only compute residuals; wrap it in [`ForwardDifference`]
@@ -39,6 +49,10 @@ pub trait ResidualsOnly {
     fn parameter_count(&self) -> usize;
     /// Residuals at `x` into `r` (length `m`); `false` when they cannot be computed.
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool;
+    /// As [`Problem::should_stop`] (forwarded by [`ForwardDifference`]).
+    fn should_stop(&mut self) -> bool {
+        false
+    }
 }
 
 impl<P: ResidualsOnly + ?Sized> ResidualsOnly for &mut P {
@@ -50,6 +64,9 @@ impl<P: ResidualsOnly + ?Sized> ResidualsOnly for &mut P {
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
         (**self).residuals(x, r)
+    }
+    fn should_stop(&mut self) -> bool {
+        (**self).should_stop()
     }
 }
 
@@ -157,6 +174,9 @@ impl<P: ResidualsOnly> ForwardDifference<P> {
 impl<P: ResidualsOnly> Problem for ForwardDifference<P> {
     fn residual_count(&self) -> usize {
         self.m
+    }
+    fn should_stop(&mut self) -> bool {
+        self.inner.should_stop()
     }
     fn parameter_count(&self) -> usize {
         self.p

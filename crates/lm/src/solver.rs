@@ -1,5 +1,12 @@
 //! The N2FB-style iteration: scaled trust-region Levenberg-Marquardt with an active set for the
 //! bounds, NL2SOL's convergence tests and (optionally) its adaptive augmented model.
+//!
+//! The loop ([`iterate`]) reads like NL2SOL's driver: start a new iteration (Jacobian, scaling
+//! `D`, factorization, the pending radius change), compute a trial step in the trust region
+//! ([`Workspace::compute_step`]), evaluate it, assess it (DA7SST: accept or reject and how the
+//! radius changes, [`TrustRadius::after_step`]), and test for convergence
+//! ([`Descent::convergence_test`], [`Descent::stop_test`]). The names follow NL2SOL and PORT
+//! (Dennis, Gay and Welsch 1981; Gay 1983): RADFAC, RADINC, PREDUC, NREDUC, RELDX, STPPAR.
 
 use crate::linalg::{
     backward_solve, cholesky_shifted, dot, forward_solve, householder_qr, jt_vec, norm,
@@ -21,6 +28,16 @@ const RADIUS_SLACK: f64 = 0.1;
 const MAX_RADINC: i32 = 1;
 /// A step is accepted when the actual reduction exceeds this fraction of the predicted one.
 const ACCEPT_RATIO: f64 = 1e-4;
+/// A column of the scaled Jacobian `J D^-1` whose norm is at most this fraction of the largest
+/// is numerically dead (a BRDF lobe with `d^n ~ 1e-150`): moving its variable across the whole
+/// trust region changes `J s` by less than the rounding of the live columns. It is zeroed before
+/// the QR and its variable held, like a variable on a bound.
+const DEAD_COLUMN: f64 = f64::EPSILON;
+/// A first trust radius below this times `||D x||` is a round-off change of x.
+const ROUND_OFF_STEP: f64 = 16.0 * f64::EPSILON;
+/// Slack on the bound `||D_F^-1 g_F|| <= sqrt(p rfctol) ||r||` that relative function
+/// convergence implies (see [`Workspace::gradient_permits_rel_conv`]).
+const REL_CONV_GRADIENT_SLACK: f64 = 10.0;
 
 /// Bounded trust-region Levenberg-Marquardt solver.
 ///
@@ -31,19 +48,23 @@ pub struct Solver {
     ws: Workspace,
 }
 
-/// All buffers of a solve (grow-only).
+/// All buffers of a solve (grow-only). Each buffer has one meaning.
 #[derive(Clone, Debug, Default)]
 struct Workspace {
     m: usize,
     p: usize,
+    /// Current iterate, trial point, and the point before the last accepted step.
     x: Vec<f64>,
     x_trial: Vec<f64>,
     x_prev: Vec<f64>,
+    /// The box.
     lo: Vec<f64>,
     hi: Vec<f64>,
+    /// Residuals at `x`, `x_trial` and `x_prev`.
     r: Vec<f64>,
     r_trial: Vec<f64>,
     r_prev: Vec<f64>,
+    /// Jacobian at `x` (column-major).
     jac: Vec<f64>,
     /// Copy of `J D^-1` reduced in place by Householder QR.
     qr: Vec<f64>,
@@ -53,35 +74,61 @@ struct Workspace {
     rmat: Vec<f64>,
     /// First p entries of `Q^T r`.
     cvec: Vec<f64>,
-    /// `[R_F | c']` reduced to `[T | u]` for the free set.
-    bmat: Vec<f64>,
+    /// Scaling `D`.
     d: Vec<f64>,
+    /// `J^T J` (unscaled).
     jtj: Vec<f64>,
+    /// Gradient `g = J^T r` at `x` and at `x_prev`.
     g: Vec<f64>,
     g_prev: Vec<f64>,
     /// Secant approximation of the second-order term (augmented model).
     s_mat: Vec<f64>,
     /// The model Hessian in use (`jtj` or `jtj + s_mat`).
     h: Vec<f64>,
+    /// The trial step `s`.
     step: Vec<f64>,
-    step_alt: Vec<f64>,
-    gm: Vec<f64>,
-    hs: Vec<f64>,
+    /// The step re-solved at radius LMAXS for the singular-convergence test.
+    singular_step: Vec<f64>,
+    /// Model gradient `g + H s` at a partial step (augmented model).
+    g_model: Vec<f64>,
+    /// `S s` for the predicted reductions.
+    s_step: Vec<f64>,
+    /// `H s` of the last accepted step (at the old point), for DG7ITB's gradient tests.
+    h_step: Vec<f64>,
+    /// `D s` and `R D s` for the predicted reductions.
+    d_step: Vec<f64>,
+    r_d_step: Vec<f64>,
+    /// Variables whose scaled Jacobian column is numerically dead ([`DEAD_COLUMN`]), and the
+    /// max-abs entry of each scaled column.
+    dead: Vec<bool>,
+    col_max: Vec<f64>,
+    /// Held variables and the indices of the free ones.
     fixed: Vec<bool>,
     free: Vec<usize>,
-    sub_h: Vec<f64>,
-    sub_l: Vec<f64>,
-    sub_g: Vec<f64>,
+    /// Least-squares form of the free-set Gauss-Newton model `0.5 ||u + T z||^2`.
+    ls_t: Vec<f64>,
+    ls_u: Vec<f64>,
+    /// `[R_F | c + R D s]` reduced to `[T | u]` by Householder QR.
+    ls_block: Vec<f64>,
+    ls_rhs: Vec<f64>,
+    /// Factor of the shifted system `[T; sqrt(lambda) I] -> T_lambda`, its right-hand side, and
+    /// the Givens scratch row.
+    ls_t_lambda: Vec<f64>,
+    ls_u_lambda: Vec<f64>,
+    ls_row: Vec<f64>,
+    /// Normal form of the free-set augmented model `g^T z + 0.5 z^T H z` (scaled) and the
+    /// Cholesky factor of `H + lambda I`.
+    qd_h: Vec<f64>,
+    qd_g: Vec<f64>,
+    qd_chol: Vec<f64>,
+    /// Scaled free-set step `z`, the best feasible one seen, and `L^-1 z` (Hebden's update).
     sub_z: Vec<f64>,
-    sub_q: Vec<f64>,
     sub_best: Vec<f64>,
-    sub_u: Vec<f64>,
-    sub_w: Vec<f64>,
-    shat: Vec<f64>,
-    vtmp: Vec<f64>,
+    sub_q: Vec<f64>,
+    /// Secant update vectors: gradient change `y`, `y# = (J_new - J_old)^T r_new`, and scratch.
     y: Vec<f64>,
     ysharp: Vec<f64>,
-    w: Vec<f64>,
+    secant_w: Vec<f64>,
     /// A good trial point, its residuals and step, saved while a longer step is tried.
     x_good: Vec<f64>,
     r_good: Vec<f64>,
@@ -93,22 +140,45 @@ struct Workspace {
 /// What a step computation produced.
 #[derive(Clone, Copy, Debug)]
 struct StepInfo {
-    /// Predicted reduction of the model for the step.
+    /// Predicted reduction of the model for the step (PREDUC).
     preduc: f64,
-    /// Predicted reduction of the full Gauss-Newton (Newton) step on the first free set, or
-    /// negative when that step does not exist (singular model).
+    /// Predicted reduction of the full Gauss-Newton (Newton) step on the first free set
+    /// (NREDUC), or negative when that step does not exist (singular model).
     nreduc: f64,
     /// Scaled length of the first pass's Newton step (NL2SOL's DST0), negative when it does not
     /// exist.
     newton_norm: f64,
-    /// The step is the unconstrained Newton step (lambda 0, not cut by a bound).
+    /// The step is the Newton step (STPPAR = 0; see the crate docs for steps cut at a bound).
     newton: bool,
     /// `||D s||`.
     dnorm: f64,
+    /// A variable not held on a bound has a numerically dead column ([`DEAD_COLUMN`]): the
+    /// Gauss-Newton model is singular, so (as in N2FB, which gives code 7 for a zero column) there
+    /// is no Newton step and NREDUC does not exist, although the step is computed on the live
+    /// variables.
+    dead_free: bool,
+}
+
+impl StepInfo {
+    const NONE: StepInfo = StepInfo {
+        preduc: 0.0,
+        nreduc: -1.0,
+        newton_norm: -1.0,
+        newton: false,
+        dnorm: 0.0,
+        dead_free: false,
+    };
 }
 
 fn grow(v: &mut Vec<f64>, n: usize) {
     v.resize(n, 0.0);
+}
+
+/// True when the upper-triangular `t` (`n x n`) has no diagonal entry below
+/// `QR_RANK_TOL` times the largest (a Gauss-Newton step exists).
+fn triangular_full_rank(t: &[f64], n: usize) -> bool {
+    let dmax = (0..n).fold(0.0f64, |a, i| a.max(t[i * n + i].abs()));
+    dmax > 0.0 && (0..n).all(|i| t[i * n + i].abs() > QR_RANK_TOL * dmax)
 }
 
 impl Workspace {
@@ -125,23 +195,27 @@ impl Workspace {
             &mut self.g,
             &mut self.g_prev,
             &mut self.step,
-            &mut self.step_alt,
+            &mut self.singular_step,
             &mut self.x_good,
             &mut self.step_good,
-            &mut self.gm,
-            &mut self.hs,
-            &mut self.sub_g,
+            &mut self.g_model,
+            &mut self.s_step,
+            &mut self.h_step,
+            &mut self.d_step,
+            &mut self.r_d_step,
+            &mut self.ls_u,
+            &mut self.ls_rhs,
+            &mut self.ls_u_lambda,
+            &mut self.ls_row,
+            &mut self.qd_g,
             &mut self.sub_z,
-            &mut self.sub_q,
             &mut self.sub_best,
-            &mut self.sub_u,
-            &mut self.sub_w,
-            &mut self.shat,
-            &mut self.vtmp,
+            &mut self.sub_q,
             &mut self.cvec,
+            &mut self.col_max,
             &mut self.y,
             &mut self.ysharp,
-            &mut self.w,
+            &mut self.secant_w,
         ] {
             grow(v, p);
         }
@@ -156,18 +230,21 @@ impl Workspace {
         }
         grow(&mut self.jac, m * p);
         grow(&mut self.qr, m * p);
-        grow(&mut self.bmat, p * (p + 1));
+        grow(&mut self.ls_block, p * (p + 1));
         for v in [
             &mut self.jtj,
             &mut self.rmat,
             &mut self.s_mat,
             &mut self.h,
-            &mut self.sub_h,
-            &mut self.sub_l,
+            &mut self.ls_t,
+            &mut self.ls_t_lambda,
+            &mut self.qd_h,
+            &mut self.qd_chol,
         ] {
             grow(v, p * p);
         }
         self.fixed.resize(p, false);
+        self.dead.resize(p, false);
         self.free.resize(p, 0);
         self.lambda = 0.0;
     }
@@ -192,8 +269,14 @@ impl Workspace {
 
     /// QR of the scaled Jacobian `J D^-1 = Q R`, `c = Q^T r`, and from them `J^T J` and
     /// `g = J^T r` (unscaled) for the augmented model, the secant update and the active set.
+    ///
+    /// A numerically dead scaled column ([`DEAD_COLUMN`]) is zeroed and its variable marked
+    /// `dead` (held by [`Workspace::hold_active_bounds`]): left in, such a column made `R` so
+    /// ill-conditioned that the subproblem moved the dead variables by garbage amounts, and its
+    /// squares underflowed in the QR.
     fn factor_jacobian(&mut self) {
         let (m, p) = (self.m, self.p);
+        let mut max_scaled = 0.0f64;
         for j in 0..p {
             let inv = 1.0 / self.d[j];
             for (q, &v) in self.qr[j * m..(j + 1) * m]
@@ -201,6 +284,19 @@ impl Workspace {
                 .zip(&self.jac[j * m..(j + 1) * m])
             {
                 *q = v * inv;
+            }
+            // Dead columns are tiny: their 2-norm via max-abs avoids underflow in the squares.
+            let amax = self.qr[j * m..(j + 1) * m]
+                .iter()
+                .fold(0.0f64, |a, v| a.max(v.abs()));
+            self.col_max[j] = amax;
+            max_scaled = max_scaled.max(amax);
+        }
+        for j in 0..p {
+            // max-abs is within sqrt(m) of the 2-norm; comparing max-abs values is enough here.
+            self.dead[j] = !(self.col_max[j] > DEAD_COLUMN * max_scaled);
+            if self.dead[j] {
+                self.qr[j * m..(j + 1) * m].fill(0.0);
             }
         }
         self.rq[..m].copy_from_slice(&self.r[..m]);
@@ -254,25 +350,145 @@ impl Workspace {
     fn predicted(&mut self, augmented: bool) -> (f64, f64) {
         let p = self.p;
         for i in 0..p {
-            self.shat[i] = self.d[i] * self.step[i];
+            self.d_step[i] = self.d[i] * self.step[i];
         }
         for i in 0..p {
             let mut v = 0.0;
             for j in i..p {
-                v += self.rmat[j * p + i] * self.shat[j];
+                v += self.rmat[j * p + i] * self.d_step[j];
             }
-            self.vtmp[i] = v;
+            self.r_d_step[i] = v;
         }
-        let pred_gn =
-            -(dot(&self.cvec[..p], &self.vtmp[..p]) + 0.5 * dot(&self.vtmp[..p], &self.vtmp[..p]));
-        sym_mat_vec(&self.s_mat, &self.step, p, &mut self.hs);
-        let sss = dot(&self.step[..p], &self.hs[..p]);
+        let pred_gn = -(dot(&self.cvec[..p], &self.r_d_step[..p])
+            + 0.5 * dot(&self.r_d_step[..p], &self.r_d_step[..p]));
+        sym_mat_vec(&self.s_mat, &self.step, p, &mut self.s_step);
+        let sss = dot(&self.step[..p], &self.s_step[..p]);
         let pred = if augmented {
             pred_gn - 0.5 * sss
         } else {
             pred_gn
         };
         (pred, sss)
+    }
+
+    /// Holds a variable on a bound whose gradient points out of the box (and a variable whose
+    /// bounds coincide), and clears the step.
+    /// A numerically dead variable is held too; returns whether one of them is not held by a
+    /// bound (then the Gauss-Newton model is singular: [`StepInfo::dead_free`]).
+    fn hold_active_bounds(&mut self) -> bool {
+        let mut dead_free = false;
+        for i in 0..self.p {
+            let at_lo = self.x[i] <= self.lo[i];
+            let at_hi = self.x[i] >= self.hi[i];
+            let bound =
+                (at_lo && self.g[i] >= 0.0) || (at_hi && self.g[i] <= 0.0) || (at_lo && at_hi);
+            dead_free |= self.dead[i] && !bound;
+            self.fixed[i] = bound || self.dead[i];
+            self.step[i] = 0.0;
+        }
+        dead_free
+    }
+
+    /// Lists the free variables in `free`; returns their number.
+    fn collect_free(&mut self) -> usize {
+        let mut n = 0;
+        for i in 0..self.p {
+            if !self.fixed[i] {
+                self.free[n] = i;
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// The free-set Gauss-Newton model at the partial step `s` in least-squares form
+    /// `0.5 ||u + T z||^2` (`ls_t` = T, `ls_u` = u).
+    fn build_least_squares_model(&mut self, n: usize, first: bool) {
+        let p = self.p;
+        if n == p && first {
+            // Nothing held and no partial step yet: the free-set model is R itself.
+            self.ls_t[..p * p].copy_from_slice(&self.rmat[..p * p]);
+            self.ls_u[..p].copy_from_slice(&self.cvec[..p]);
+            return;
+        }
+        // c' = c + R D s, then QR of [R_F | c'] gives the free-set model.
+        for i in 0..p {
+            self.d_step[i] = self.d[i] * self.step[i];
+        }
+        let rows = p;
+        for a in 0..n {
+            let ia = self.free[a];
+            self.ls_block[a * rows..(a + 1) * rows]
+                .copy_from_slice(&self.rmat[ia * p..(ia + 1) * p]);
+        }
+        for i in 0..p {
+            let mut v = self.cvec[i];
+            for j in i..p {
+                v += self.rmat[j * p + i] * self.d_step[j];
+            }
+            self.ls_rhs[i] = v;
+        }
+        householder_qr(
+            &mut self.ls_block[..rows * n],
+            rows,
+            n,
+            &mut self.ls_rhs[..rows],
+        );
+        for b in 0..n {
+            for a in 0..n {
+                self.ls_t[b * n + a] = if a <= b {
+                    self.ls_block[b * rows + a]
+                } else {
+                    0.0
+                };
+            }
+            self.ls_u[b] = self.ls_rhs[b];
+        }
+    }
+
+    /// The free-set model at the partial step `s` in normal form (augmented model): scaled
+    /// model gradient `D^-1 (g + H s)` and scaled Hessian `D^-1 H D^-1` of the free variables.
+    fn build_quadratic_model(&mut self, n: usize) {
+        let p = self.p;
+        sym_mat_vec(&self.h, &self.step, p, &mut self.g_model);
+        for i in 0..p {
+            self.g_model[i] += self.g[i];
+        }
+        for a in 0..n {
+            let ia = self.free[a];
+            self.qd_g[a] = self.g_model[ia] / self.d[ia];
+            for b in 0..n {
+                let ib = self.free[b];
+                self.qd_h[a * n + b] = self.h[ia * p + ib] / (self.d[ia] * self.d[ib]);
+            }
+        }
+    }
+
+    /// Largest fraction `alpha <= 1` of the free-set sub-step `z` (scaled) that keeps
+    /// `x + s + alpha D^-1 z` in the box, and the variable (and whether its upper bound) that
+    /// limits it.
+    fn feasible_fraction(&self, n: usize) -> (f64, Option<(usize, bool)>) {
+        let mut alpha = 1.0f64;
+        let mut hit = None;
+        for a in 0..n {
+            let i = self.free[a];
+            let ds = self.sub_z[a] / self.d[i];
+            let cur = self.x[i] + self.step[i];
+            if ds > 0.0 && cur + ds > self.hi[i] {
+                let t = ((self.hi[i] - cur) / ds).max(0.0);
+                if t < alpha {
+                    alpha = t;
+                    hit = Some((i, true));
+                }
+            } else if ds < 0.0 && cur + ds < self.lo[i] {
+                let t = ((self.lo[i] - cur) / ds).max(0.0);
+                if t < alpha {
+                    alpha = t;
+                    hit = Some((i, false));
+                }
+            }
+        }
+        (alpha, hit)
     }
 
     /// Computes the bounded step from `x` within scaled radius `radius` into `self.step`.
@@ -283,116 +499,63 @@ impl Workspace {
     /// is re-solved from the cut point (model gradient `g + H s`, remaining radius).
     fn compute_step(&mut self, radius: f64, augmented: bool) -> StepInfo {
         let p = self.p;
-        for i in 0..p {
-            let at_lo = self.x[i] <= self.lo[i];
-            let at_hi = self.x[i] >= self.hi[i];
-            self.fixed[i] =
-                (at_lo && self.g[i] >= 0.0) || (at_hi && self.g[i] <= 0.0) || (at_lo && at_hi);
-            self.step[i] = 0.0;
-        }
-        let mut info = StepInfo {
-            preduc: 0.0,
-            nreduc: -1.0,
-            newton_norm: -1.0,
-            newton: false,
-            dnorm: 0.0,
-        };
+        let dead_free = self.hold_active_bounds();
+        let mut info = StepInfo::NONE;
         let mut remaining = radius;
         let mut first = true;
         for _pass in 0..=p {
-            let mut n = 0;
-            for i in 0..p {
-                if !self.fixed[i] {
-                    self.free[n] = i;
-                    n += 1;
-                }
-            }
+            let n = self.collect_free();
             if n == 0 {
                 break;
             }
-            // The Gauss-Newton free-set model 0.5 ||u + T z||^2 (sub_h = T, sub_u = u). The
-            // augmented model needs it on the first pass too: relative function convergence is
-            // always judged by the Gauss-Newton reduction 0.5 ||u||^2, which vanishes at every
-            // stationary point and does not exist where J is singular (so an augmented model
-            // that merely predicts no decrease cannot claim convergence).
+            // The Gauss-Newton free-set model. The augmented model needs it on the first pass
+            // too: relative function convergence is always judged by the Gauss-Newton
+            // reduction 0.5 ||u||^2, which vanishes at every stationary point and does not exist
+            // where J is singular (so an augmented model that merely predicts no decrease cannot
+            // claim convergence).
             let mut nreduc_gn = -1.0;
             if !augmented || first {
-                if n == p && first {
-                    // Nothing held and no partial step yet: the free-set model is R itself.
-                    self.sub_h[..p * p].copy_from_slice(&self.rmat[..p * p]);
-                    self.sub_u[..p].copy_from_slice(&self.cvec[..p]);
-                } else {
-                    // Least-squares form: c' = c + R D s, then QR of [R_F | c'] gives the free-set
-                    // model 0.5 ||u + T z||^2.
-                    for i in 0..p {
-                        self.shat[i] = self.d[i] * self.step[i];
-                    }
-                    let rows = p;
-                    for a in 0..n {
-                        let ia = self.free[a];
-                        self.bmat[a * rows..(a + 1) * rows]
-                            .copy_from_slice(&self.rmat[ia * p..(ia + 1) * p]);
-                    }
-                    for i in 0..p {
-                        let mut v = self.cvec[i];
-                        for j in i..p {
-                            v += self.rmat[j * p + i] * self.shat[j];
-                        }
-                        self.sub_w[i] = v;
-                    }
-                    householder_qr(&mut self.bmat[..rows * n], rows, n, &mut self.sub_w[..rows]);
-                    for b in 0..n {
-                        for a in 0..n {
-                            self.sub_h[b * n + a] =
-                                if a <= b { self.bmat[b * rows + a] } else { 0.0 };
-                        }
-                        self.sub_u[b] = self.sub_w[b];
-                    }
-                }
-                if augmented {
-                    let dmax = (0..n).fold(0.0f64, |a, i| a.max(self.sub_h[i * n + i].abs()));
-                    if dmax > 0.0
-                        && (0..n).all(|i| self.sub_h[i * n + i].abs() > QR_RANK_TOL * dmax)
-                    {
-                        nreduc_gn = 0.5 * dot(&self.sub_u[..n], &self.sub_u[..n]);
-                    }
+                self.build_least_squares_model(n, first);
+                if augmented && triangular_full_rank(&self.ls_t[..n * n], n) {
+                    nreduc_gn = 0.5 * dot(&self.ls_u[..n], &self.ls_u[..n]);
                 }
             }
-            if augmented {
-                // Normal-equation form: model gradient at the partial step and the scaled
-                // Hessian of the free variables.
-                sym_mat_vec(&self.h, &self.step, p, &mut self.gm);
-                for i in 0..p {
-                    self.gm[i] += self.g[i];
-                }
-                for a in 0..n {
-                    let ia = self.free[a];
-                    self.sub_g[a] = self.gm[ia] / self.d[ia];
-                    for b in 0..n {
-                        let ib = self.free[b];
-                        self.sub_h[a * n + b] = self.h[ia * p + ib] / (self.d[ia] * self.d[ib]);
-                    }
-                }
-            }
-            let tr = trust_region(
-                Sub {
+            let tr = if augmented {
+                self.build_quadratic_model(n);
+                let mut sub = QuadraticModel {
                     n,
-                    qr: !augmented,
-                    h: &self.sub_h[..n * n],
-                    g: if augmented {
-                        &self.sub_g[..n]
-                    } else {
-                        &self.sub_u[..n]
-                    },
-                    l: &mut self.sub_l[..n * n],
-                    ul: &mut self.sub_q[..n],
-                    w: &mut self.sub_best[..n],
-                },
-                remaining,
-                self.lambda,
-                &mut self.sub_z[..n],
-                &mut self.vtmp[..n],
-            );
+                    h: &self.qd_h[..n * n],
+                    g: &self.qd_g[..n],
+                    chol: &mut self.qd_chol[..n * n],
+                };
+                let z = &mut self.sub_z[..n];
+                trust_region(
+                    &mut sub,
+                    remaining,
+                    self.lambda,
+                    z,
+                    &mut self.sub_best,
+                    &mut self.sub_q,
+                )
+            } else {
+                let mut sub = LeastSquaresModel {
+                    n,
+                    t: &self.ls_t[..n * n],
+                    u: &self.ls_u[..n],
+                    t_lambda: &mut self.ls_t_lambda[..n * n],
+                    u_lambda: &mut self.ls_u_lambda[..n],
+                    row: &mut self.ls_row[..n],
+                };
+                let z = &mut self.sub_z[..n];
+                trust_region(
+                    &mut sub,
+                    remaining,
+                    self.lambda,
+                    z,
+                    &mut self.sub_best,
+                    &mut self.sub_q,
+                )
+            };
             self.lambda = tr.lambda;
             if first {
                 info.nreduc = if augmented {
@@ -404,37 +567,14 @@ impl Workspace {
             }
             // N2FB's STPPAR: whether the last sub-step solved is the Newton step (lambda = 0).
             info.newton = tr.is_newton;
-            // Largest feasible fraction of the sub-step.
-            let mut alpha = 1.0f64;
-            let mut hit = usize::MAX;
-            let mut hit_upper = false;
-            for a in 0..n {
-                let i = self.free[a];
-                let ds = self.sub_z[a] / self.d[i];
-                let cur = self.x[i] + self.step[i];
-                if ds > 0.0 && cur + ds > self.hi[i] {
-                    let t = ((self.hi[i] - cur) / ds).max(0.0);
-                    if t < alpha {
-                        alpha = t;
-                        hit = i;
-                        hit_upper = true;
-                    }
-                } else if ds < 0.0 && cur + ds < self.lo[i] {
-                    let t = ((self.lo[i] - cur) / ds).max(0.0);
-                    if t < alpha {
-                        alpha = t;
-                        hit = i;
-                        hit_upper = false;
-                    }
-                }
-            }
+            let (alpha, hit) = self.feasible_fraction(n);
             for a in 0..n {
                 let i = self.free[a];
                 self.step[i] += alpha * self.sub_z[a] / self.d[i];
             }
-            if hit == usize::MAX {
+            let Some((hit, hit_upper)) = hit else {
                 break;
-            }
+            };
             info.newton = false;
             // A variable sitting on its bound whose step leaves the box at once (alpha = 0,
             // nothing moved yet) is active: the free set excludes it, so NREDUC (and STPPAR)
@@ -465,13 +605,19 @@ impl Workspace {
         let (pred, _) = self.predicted(augmented);
         info.preduc = pred;
         info.dnorm = self.scaled_norm_step();
+        if dead_free {
+            info.dead_free = true;
+            info.nreduc = -1.0;
+            info.newton_norm = -1.0;
+            info.newton = false;
+        }
         info
     }
 
-    /// N2FB's gradient tests (DG7ITB) after a step accepted with the radius unchanged, with `w`
-    /// = model Hessian times the step (at the old point), `g_prev` the old gradient and `g` the
-    /// new one: the radius may still double when the model predicted the new gradient well,
-    /// `||D^-1 (H s + g_old - g_new)|| <= 0.5 ||D^-1 g_new||` (free variables), or when the
+    /// N2FB's gradient tests (DG7ITB) after a step accepted with the radius unchanged, with
+    /// `h_step` = model Hessian times the step (at the old point), `g_prev` the old gradient and
+    /// `g` the new one: the radius may still double when the model predicted the new gradient
+    /// well, `||D^-1 (H s + g_old - g_new)|| <= 0.5 ||D^-1 g_new||` (free variables), or when the
     /// slope along the step is still at least 3/4 of the old one, `g_new^T s < 0.75 g_old^T s`.
     fn gradient_tests(&self) -> bool {
         let mut err2 = 0.0;
@@ -482,7 +628,7 @@ impl Workspace {
             let s = self.x[i] - self.x_prev[i];
             gts_new += self.g[i] * s;
             gts_old += self.g_prev[i] * s;
-            let e = (self.w[i] + self.g_prev[i] - self.g[i]) / self.d[i];
+            let e = (self.h_step[i] + self.g_prev[i] - self.g[i]) / self.d[i];
             err2 += e * e;
             let held = self.lo[i] >= self.hi[i]
                 || (self.x[i] <= self.lo[i] && self.g[i] > 0.0)
@@ -493,6 +639,51 @@ impl Workspace {
             }
         }
         err2.sqrt() <= 0.5 * gn2.sqrt() || gts_new < 0.75 * gts_old
+    }
+
+    /// `||D (x - x_prev)||`: the scaled length of the last accepted step with the current `D`.
+    fn scaled_norm_last_step(&self) -> f64 {
+        let mut s2 = 0.0;
+        for i in 0..self.p {
+            let v = self.d[i] * (self.x[i] - self.x_prev[i]);
+            s2 += v * v;
+        }
+        s2.sqrt()
+    }
+
+    /// `||D x||`.
+    fn scaled_norm_x(&self) -> f64 {
+        let mut s = 0.0;
+        for i in 0..self.p {
+            let v = self.d[i] * self.x[i];
+            s += v * v;
+        }
+        s.sqrt()
+    }
+
+    /// Whether the scaled projected gradient at `x` is small enough for relative function
+    /// convergence. In exact arithmetic `NREDUC = 0.5 ||c_F||^2 <= rfctol f` implies
+    /// `||D_F^-1 g_F|| = ||R_F^T c_F|| <= sqrt(p) ||c_F|| <= sqrt(p rfctol) ||r||` (scaled columns
+    /// have norm at most 1), so this gate (with [`REL_CONV_GRADIENT_SLACK`]) never blocks a
+    /// correctly computed code 4; it blocks one computed from a broken factorization. `g` is
+    /// recomputed as `J^T r` from the Jacobian itself, independently of the QR. The free set
+    /// is every variable not held on a bound by the sign of its gradient (the KKT conditions);
+    /// dead variables count with their true, negligible gradient.
+    fn gradient_permits_rel_conv(&self, rel_tol: f64) -> bool {
+        let (m, p) = (self.m, self.p);
+        let mut g2 = 0.0;
+        for j in 0..p {
+            let gj = dot(&self.jac[j * m..(j + 1) * m], &self.r[..m]);
+            let held =
+                (self.x[j] <= self.lo[j] && gj >= 0.0) || (self.x[j] >= self.hi[j] && gj <= 0.0);
+            if !held {
+                let v = gj / self.d[j];
+                g2 += v * v;
+            }
+        }
+        let r2 = dot(&self.r[..m], &self.r[..m]);
+        let bound = REL_CONV_GRADIENT_SLACK * REL_CONV_GRADIENT_SLACK * p as f64 * rel_tol * r2;
+        g2 <= bound
     }
 
     /// Swaps the trial point, its residuals and the step with the saved good ones (saving one,
@@ -512,19 +703,47 @@ impl Workspace {
         s.sqrt()
     }
 
+    /// The singular-convergence test step (N2FB): PREDUC of the step re-solved at `radius`
+    /// (LMAXS) from the same point without evaluating f; the trial step and lambda are kept.
+    fn singular_test_reduction(&mut self, radius: f64, augmented: bool) -> f64 {
+        std::mem::swap(&mut self.step, &mut self.singular_step);
+        let saved_lambda = self.lambda;
+        let alt = self.compute_step(radius, augmented);
+        self.lambda = saved_lambda;
+        std::mem::swap(&mut self.step, &mut self.singular_step);
+        alt.preduc
+    }
+
+    /// Accepts the trial point: the current point becomes the previous one.
+    fn accept_trial(&mut self) {
+        let (m, p) = (self.m, self.p);
+        self.x_prev[..p].copy_from_slice(&self.x[..p]);
+        self.r_prev[..m].copy_from_slice(&self.r[..m]);
+        self.g_prev[..p].copy_from_slice(&self.g[..p]);
+        self.x[..p].copy_from_slice(&self.x_trial[..p]);
+        std::mem::swap(&mut self.r, &mut self.r_trial);
+    }
+
+    /// Returns to the previous point (after a failed Jacobian there).
+    fn return_to_previous(&mut self) {
+        let (m, p) = (self.m, self.p);
+        self.x[..p].copy_from_slice(&self.x_prev[..p]);
+        self.r[..m].copy_from_slice(&self.r_prev[..m]);
+    }
+
     /// NL2SOL's secant update of `S` after an accepted step (`step` = s, `y` = gradient change,
     /// `ysharp` = `(J_new - J_old)^T r_new`), with Dennis-Gay-Welsch sizing.
     fn secant_update(&mut self) {
         let p = self.p;
-        sym_mat_vec(&self.s_mat, &self.step, p, &mut self.w);
-        let sss = dot(&self.step[..p], &self.w[..p]);
+        sym_mat_vec(&self.s_mat, &self.step, p, &mut self.secant_w);
+        let sss = dot(&self.step[..p], &self.secant_w[..p]);
         let sy_sharp = dot(&self.step[..p], &self.ysharp[..p]);
         if sss != 0.0 {
             let tau = (sy_sharp / sss).abs().min(1.0);
             for v in self.s_mat[..p * p].iter_mut() {
                 *v *= tau;
             }
-            for v in self.w[..p].iter_mut() {
+            for v in self.secant_w[..p].iter_mut() {
                 *v *= tau;
             }
         }
@@ -534,12 +753,12 @@ impl Workspace {
             return;
         }
         for i in 0..p {
-            self.w[i] = self.ysharp[i] - self.w[i];
+            self.secant_w[i] = self.ysharp[i] - self.secant_w[i];
         }
-        let ws = dot(&self.w[..p], &self.step[..p]);
+        let ws = dot(&self.secant_w[..p], &self.step[..p]);
         for j in 0..p {
             for i in 0..p {
-                let v = (self.w[i] * self.y[j] + self.y[i] * self.w[j]) / sy
+                let v = (self.secant_w[i] * self.y[j] + self.y[i] * self.secant_w[j]) / sy
                     - ws * self.y[i] * self.y[j] / (sy * sy);
                 self.s_mat[j * p + i] += v;
             }
@@ -561,130 +780,195 @@ struct TrResult {
     is_newton: bool,
 }
 
-/// A free-set subproblem in one of two forms.
-///
-/// `qr`: the model is `0.5 ||u + T z||^2` with `T` upper triangular (`h` = T, `g` = u);
-/// shifted systems are factored by Givens rotations of `[T; sqrt(lambda) I]`, so `J^T J` is never
-/// formed. Otherwise the model is `g^T z + 0.5 z^T H z` (augmented model, possibly indefinite),
-/// factored by Cholesky of `H + lambda I`.
-struct Sub<'a> {
-    n: usize,
-    qr: bool,
-    h: &'a [f64],
-    g: &'a [f64],
-    /// Factor of the shifted system: lower `L` (Cholesky) or upper `T_lambda` (QR).
-    l: &'a mut [f64],
-    /// Rotated right-hand side (QR form).
-    ul: &'a mut [f64],
-    /// Scratch.
-    w: &'a mut [f64],
-}
-
-impl Sub<'_> {
+/// A free-set trust-region subproblem in the scaled variables `z = D_F s_F`: what the
+/// More-Sorensen/Hebden iteration ([`trust_region`]) needs from a model.
+trait Subproblem {
+    /// Number of free variables.
+    fn n(&self) -> usize;
     /// Newton step into `z` and its predicted reduction, or `None` when the model is singular
     /// (or indefinite).
-    fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
-        let n = self.n;
-        if self.qr {
-            let dmax = (0..n).fold(0.0f64, |a, i| a.max(self.h[i * n + i].abs()));
-            if !(dmax > 0.0) || (0..n).any(|i| !(self.h[i * n + i].abs() > QR_RANK_TOL * dmax)) {
-                return None;
-            }
-            for i in 0..n {
-                z[i] = -self.g[i];
-            }
-            upper_solve(self.h, n, z);
-            Some(0.5 * dot(self.g, self.g))
-        } else {
-            if !cholesky_shifted(self.h, 0.0, n, RANK_TOL, self.l) {
-                return None;
-            }
-            for i in 0..n {
-                z[i] = -self.g[i];
-            }
-            forward_solve(self.l, n, z);
-            backward_solve(self.l, n, z);
-            Some(-0.5 * dot(self.g, z))
-        }
+    fn newton(&mut self, z: &mut [f64]) -> Option<f64>;
+    /// Step at `lam > 0` into `z`; false when the shifted system is not positive definite.
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool;
+    /// `q <- L^-1 q` where `L L^T = H + lam I` is the last shifted system.
+    fn lower_solve(&self, q: &mut [f64]);
+    /// Gradient norm, a bound on `||H||`, and the smallest diagonal entry of `H`.
+    fn bracket_data(&self) -> (f64, f64, f64);
+    /// The steepest-descent direction `-gradient` into `z`.
+    fn steepest_descent(&self, z: &mut [f64]);
+}
+
+/// The Gauss-Newton model in least-squares form `0.5 ||u + T z||^2`, `T` upper triangular;
+/// shifted systems are factored by Givens rotations of `[T; sqrt(lambda) I]` (MINPACK's
+/// qrsolv), so `J^T J` is never formed.
+struct LeastSquaresModel<'a> {
+    n: usize,
+    t: &'a [f64],
+    u: &'a [f64],
+    /// `T_lambda` with `T_lambda^T T_lambda = T^T T + lambda I`.
+    t_lambda: &'a mut [f64],
+    /// The rotated right-hand side.
+    u_lambda: &'a mut [f64],
+    /// Givens scratch row.
+    row: &'a mut [f64],
+}
+
+impl Subproblem for LeastSquaresModel<'_> {
+    fn n(&self) -> usize {
+        self.n
     }
 
-    /// Step at `lam > 0` into `z`; false when the shifted system is not positive definite.
+    fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+        let n = self.n;
+        if !triangular_full_rank(self.t, n) {
+            return None;
+        }
+        for i in 0..n {
+            z[i] = -self.u[i];
+        }
+        upper_solve(self.t, n, z);
+        Some(0.5 * dot(self.u, self.u))
+    }
+
     fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
         let n = self.n;
-        if self.qr {
-            shifted_triangular(self.h, self.g, n, lam, self.l, self.ul, self.w);
-            if (0..n).any(|i| self.l[i * n + i] == 0.0) {
-                return false;
-            }
-            for i in 0..n {
-                z[i] = -self.ul[i];
-            }
-            upper_solve(self.l, n, z);
-        } else {
-            if !cholesky_shifted(self.h, lam, n, SHIFTED_TOL, self.l) {
-                return false;
-            }
-            for i in 0..n {
-                z[i] = -self.g[i];
-            }
-            forward_solve(self.l, n, z);
-            backward_solve(self.l, n, z);
+        shifted_triangular(
+            self.t,
+            self.u,
+            n,
+            lam,
+            self.t_lambda,
+            self.u_lambda,
+            self.row,
+        );
+        if (0..n).any(|i| self.t_lambda[i * n + i] == 0.0) {
+            return false;
         }
+        for i in 0..n {
+            z[i] = -self.u_lambda[i];
+        }
+        upper_solve(self.t_lambda, n, z);
         true
     }
 
-    /// `q <- L^-1 q` where `L L^T` is the last shifted system.
     fn lower_solve(&self, q: &mut [f64]) {
-        if self.qr {
-            upper_transpose_solve(self.l, self.n, q);
-        } else {
-            forward_solve(self.l, self.n, q);
-        }
+        upper_transpose_solve(self.t_lambda, self.n, q);
     }
 
-    /// Gradient norm, a bound on `||H||`, and the smallest diagonal entry of `H`.
+    fn bracket_data(&self) -> (f64, f64, f64) {
+        // gradient T^T u; ||T^T T|| <= ||T||_F^2; the model is positive semidefinite.
+        let n = self.n;
+        let mut g2 = 0.0;
+        for j in 0..n {
+            let v = dot(&self.t[j * n..j * n + j + 1], &self.u[..j + 1]);
+            g2 += v * v;
+        }
+        let f2 = dot(&self.t[..n * n], &self.t[..n * n]);
+        (g2.sqrt(), f2, 0.0)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        let n = self.n;
+        for j in 0..n {
+            z[j] = -dot(&self.t[j * n..j * n + j + 1], &self.u[..j + 1]);
+        }
+    }
+}
+
+/// The augmented model in normal form `g^T z + 0.5 z^T H z` (possibly indefinite), factored by
+/// Cholesky of `H + lambda I`.
+struct QuadraticModel<'a> {
+    n: usize,
+    h: &'a [f64],
+    g: &'a [f64],
+    /// Lower Cholesky factor of the last shifted system.
+    chol: &'a mut [f64],
+}
+
+impl Subproblem for QuadraticModel<'_> {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+        let n = self.n;
+        if !cholesky_shifted(self.h, 0.0, n, RANK_TOL, self.chol) {
+            return None;
+        }
+        for i in 0..n {
+            z[i] = -self.g[i];
+        }
+        forward_solve(self.chol, n, z);
+        backward_solve(self.chol, n, z);
+        Some(-0.5 * dot(self.g, z))
+    }
+
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+        let n = self.n;
+        if !cholesky_shifted(self.h, lam, n, SHIFTED_TOL, self.chol) {
+            return false;
+        }
+        for i in 0..n {
+            z[i] = -self.g[i];
+        }
+        forward_solve(self.chol, n, z);
+        backward_solve(self.chol, n, z);
+        true
+    }
+
+    fn lower_solve(&self, q: &mut [f64]) {
+        forward_solve(self.chol, self.n, q);
+    }
+
     fn bracket_data(&self) -> (f64, f64, f64) {
         let n = self.n;
-        if self.qr {
-            // gradient T^T u; ||T^T T|| <= ||T||_F^2; H is positive semidefinite.
-            let mut g2 = 0.0;
-            for j in 0..n {
-                let v = dot(&self.h[j * n..j * n + j + 1], &self.g[..j + 1]);
-                g2 += v * v;
-            }
-            let f2 = dot(&self.h[..n * n], &self.h[..n * n]);
-            (g2.sqrt(), f2, 0.0)
-        } else {
-            let mut hnorm = 0.0f64;
-            let mut min_diag = f64::INFINITY;
-            for j in 0..n {
-                let col: f64 = self.h[j * n..(j + 1) * n].iter().map(|v| v.abs()).sum();
-                hnorm = hnorm.max(col);
-                min_diag = min_diag.min(self.h[j * n + j]);
-            }
-            (norm(self.g), hnorm, min_diag)
+        let mut hnorm = 0.0f64;
+        let mut min_diag = f64::INFINITY;
+        for j in 0..n {
+            let col: f64 = self.h[j * n..(j + 1) * n].iter().map(|v| v.abs()).sum();
+            hnorm = hnorm.max(col);
+            min_diag = min_diag.min(self.h[j * n + j]);
+        }
+        (norm(self.g), hnorm, min_diag)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        for (zi, gi) in z.iter_mut().zip(self.g) {
+            *zi = -gi;
         }
     }
 }
 
 /// Minimises the free-set model subject to `||z|| <= radius` (More-Sorensen/Hebden iteration on
-/// `lambda`); `z` receives the step, `best` is scratch.
+/// `lambda`); `z` receives the step; `best` (the best feasible step seen) and `q` are scratch.
 fn trust_region(
-    mut sub: Sub<'_>,
+    sub: &mut impl Subproblem,
     radius: f64,
     lambda_guess: f64,
     z: &mut [f64],
     best: &mut [f64],
+    q: &mut [f64],
 ) -> TrResult {
-    let n = sub.n;
+    let n = sub.n();
     let (gnorm, hnorm, min_diag) = sub.bracket_data();
-    if gnorm == 0.0 || !gnorm.is_finite() {
+    if gnorm == 0.0 {
         z.fill(0.0);
         return TrResult {
             lambda: 0.0,
             newton_reduction: 0.0,
             newton_norm: 0.0,
             is_newton: true,
+        };
+    }
+    if !gnorm.is_finite() || !hnorm.is_finite() {
+        // A broken model (overflow in the factorization): no step, and no claim of
+        // stationarity (this once returned a zero "Newton" step, reported as code 4).
+        z.fill(0.0);
+        return TrResult {
+            lambda: lambda_guess,
+            newton_reduction: -1.0,
+            newton_norm: -1.0,
+            is_newton: false,
         };
     }
     let mut newton_reduction = -1.0;
@@ -754,11 +1038,9 @@ fn trust_region(
             break;
         }
         // Newton step on 1/||z(lambda)|| - 1/radius (Hebden): needs ||L^-1 z||.
-        sub.w[..n].copy_from_slice(&z[..n]);
-        let mut q = std::mem::take(&mut sub.w);
-        sub.lower_solve(q);
-        let nq = norm(q);
-        sub.w = std::mem::take(&mut q);
+        q[..n].copy_from_slice(&z[..n]);
+        sub.lower_solve(&mut q[..n]);
+        let nq = norm(&q[..n]);
         lam += (nz / nq) * (nz / nq) * (nz - radius) / radius;
     }
     if have_best {
@@ -770,18 +1052,8 @@ fn trust_region(
             is_newton: false,
         }
     } else {
-        // No factorization succeeded inside the bracket: fall back to a scaled gradient step
-        // (QR form: gradient T^T u).
-        if sub.qr {
-            for j in 0..n {
-                z[j] = -dot(&sub.h[j * n..j * n + j + 1], &sub.g[..j + 1]);
-            }
-        } else {
-            z[..n].copy_from_slice(&sub.g[..n]);
-            for v in z[..n].iter_mut() {
-                *v = -*v;
-            }
-        }
+        // No factorization succeeded inside the bracket: fall back to a scaled gradient step.
+        sub.steepest_descent(z);
         let zn = norm(z);
         if zn > 0.0 {
             for v in z[..n].iter_mut() {
@@ -867,357 +1139,593 @@ fn half_sum_squares(r: &[f64]) -> f64 {
     0.5 * dot(r, r)
 }
 
+/// Iterations and evaluations so far (N2FB's NITER, NFCALL, NGCALL).
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    iterations: usize,
+    residuals: usize,
+    jacobians: usize,
+}
+
+/// The trust radius and NL2SOL's bookkeeping for changing it (DA7SST, DG7ITB).
+#[derive(Clone, Copy, Debug)]
+struct TrustRadius {
+    rule: RadiusUpdate,
+    /// The radius in the scaled norm `||D s||` (V(RADIUS)).
+    radius: f64,
+    /// RADFAC of the last accepted step: the radius becomes RADFAC * ||D_new s|| once the new
+    /// scaling is known (0: nothing pending).
+    pending_factor: f64,
+    /// RADINC: radius decreases (negative) and longer steps tried (positive) in this iteration;
+    /// after a decrease a good step keeps the radius instead of increasing it.
+    radinc: i32,
+}
+
+/// How the radius changes after an assessed step ([`TrustRadius::after_step`]).
+#[derive(Clone, Copy, Debug)]
+struct RadiusChange {
+    /// RADFAC (N2FB's rule; 0 for the classic rule, which changes the radius at once).
+    factor: f64,
+    /// Try the longer step at once from the same point (DA7SST's IRC = 5).
+    try_longer: bool,
+}
+
+/// One trial step, evaluated or restored from the saved good step.
+#[derive(Clone, Copy, Debug)]
+struct Trial {
+    info: StepInfo,
+    /// f at the trial point.
+    f: f64,
+    /// RELDX of the step.
+    reldx: f64,
+    /// The saved good step was taken instead of the last one computed (NL2SOL's GOODX false).
+    restored: bool,
+}
+
+/// DA7SST's judgement of a trial step.
+#[derive(Clone, Copy, Debug)]
+struct Assessment {
+    /// f before the step.
+    f0: f64,
+    /// Actual reduction `f0 - f`.
+    ared: f64,
+    /// `ared / PREDUC`.
+    ratio: f64,
+    accepted: bool,
+    /// The other model (adaptive choice) predicted the actual reduction better.
+    switch_models: bool,
+}
+
+/// What happened to a trial step before it could be assessed.
+enum TrialResult {
+    /// The solve ends here.
+    Stop(Outcome),
+    /// The residuals could not be evaluated there: the step was rejected, the radius shrunk.
+    Failed,
+    /// A step to assess.
+    Evaluated(Trial),
+}
+
+/// A good step kept while a longer one is tried from the same point (NL2SOL's FLSTGD, PLSTGD,
+/// DSTSAV); its point, residuals and step are in the workspace's `*_good` buffers.
+#[derive(Clone, Copy, Debug)]
+struct Good {
+    f: f64,
+    info: StepInfo,
+    reldx: f64,
+}
+
+/// NL2SOL's choice between the Gauss-Newton and the augmented model.
+#[derive(Clone, Copy, Debug)]
+struct ModelChoice {
+    adaptive: bool,
+    augmented: bool,
+    /// A failed step was already retried with the other model in this iteration.
+    switched_this_iteration: bool,
+}
+
+impl TrustRadius {
+    /// Starts an iteration: applies the factor of the last accepted step with the new scaling.
+    /// N2FB (DG7ITB): `t = RADFAC * ||D_new s||`; the radius becomes t when RADFAC < 1 or t is
+    /// larger, so a short step never shrinks it otherwise; RADFAC 1 becomes 2 when the gradient
+    /// tests pass.
+    fn start_iteration(&mut self, ws: &Workspace) {
+        self.radinc = 0;
+        if self.rule == RadiusUpdate::Nl2sol && self.pending_factor > 0.0 {
+            if self.pending_factor == 1.0 && ws.gradient_tests() {
+                self.pending_factor = 2.0;
+            }
+            let t = self.pending_factor * ws.scaled_norm_last_step();
+            if self.pending_factor < 1.0 || t > self.radius {
+                self.radius = t;
+            }
+            self.pending_factor = 0.0;
+        }
+    }
+
+    /// After a step whose residuals could not be evaluated.
+    fn after_failed_evaluation(&mut self, dnorm: f64) {
+        self.radius = 0.5 * dnorm.min(self.radius);
+        self.radinc -= 1;
+    }
+
+    /// After a failed Jacobian at an accepted point (the solver returns to the previous point).
+    fn after_failed_jacobian(&mut self) {
+        self.radius *= 0.5;
+        self.pending_factor = 0.0;
+    }
+
+    /// DA7SST's radius decision for an assessed step; `gts` = `g^T s`. A rejected step changes
+    /// the radius at once; an accepted one leaves RADFAC to be applied by
+    /// [`TrustRadius::start_iteration`] (N2FB's rule).
+    fn after_step(
+        &mut self,
+        trial: &Trial,
+        a: &Assessment,
+        gts: f64,
+        adaptive: bool,
+    ) -> RadiusChange {
+        let info = &trial.info;
+        let mut change = RadiusChange {
+            factor: 0.0,
+            try_longer: false,
+        };
+        match self.rule {
+            RadiusUpdate::Nl2sol => {
+                change.factor = if !a.accepted || a.ared <= 0.1 * info.preduc {
+                    // Fletcher's decrease factor: minimiser of the quadratic through f0, the
+                    // slope g^T s and f_trial along the step, within [0.1, 0.5].
+                    let emax = gts + a.ared;
+                    if emax < gts {
+                        (0.5 * gts / emax).max(0.1)
+                    } else {
+                        0.5
+                    }
+                } else if !trial.restored && self.radinc >= 0 && a.ared >= -0.75 * gts {
+                    // Good decrease, at least 3/4 of the linear prediction -g^T s (not of
+                    // PREDUC: with lambda near 0, -g^T s is twice PREDUC), and no decrease
+                    // earlier in this iteration: factor 2..4. Unless this was the Newton step,
+                    // or the Newton step is less than twice as long or predicts less than 1.2
+                    // times this reduction, the longer step is tried at once from the same point
+                    // (IRC = 5, no new Jacobian).
+                    let mut up = 4.0;
+                    if a.ared < (0.5 / up - 1.0) * gts {
+                        up = (0.5 * gts / (gts + a.ared)).max(2.0);
+                    }
+                    let newton_close = info.newton_norm >= 0.0
+                        && (info.newton_norm < 2.0 * info.dnorm || info.nreduc < 1.2 * a.ared);
+                    change.try_longer =
+                        !info.newton && !newton_close && !adaptive && self.radinc < MAX_RADINC;
+                    up
+                } else {
+                    1.0
+                };
+                if !a.accepted {
+                    self.radius = change.factor * info.dnorm;
+                    self.radinc -= 1;
+                }
+            }
+            RadiusUpdate::Classic => {
+                if !a.accepted {
+                    // Minimiser of the quadratic through f0, slope g^T s, and f_trial along the
+                    // step.
+                    let denom = 2.0 * (trial.f - a.f0 - gts);
+                    let t = if denom > 0.0 { -gts / denom } else { 0.5 };
+                    self.radius = t.clamp(0.1, 0.5) * info.dnorm.min(self.radius);
+                } else if a.ratio < 0.25 {
+                    self.radius = 0.5 * info.dnorm.min(self.radius).max(0.25 * self.radius);
+                } else if a.ratio > 0.75 {
+                    self.radius = (4.0 * self.radius).min(self.radius.max(2.0 * info.dnorm));
+                }
+            }
+        }
+        change
+    }
+
+    /// A longer step is tried from the same point (IRC = 5).
+    fn try_longer(&mut self, factor: f64, dnorm: f64) {
+        self.radinc += 1;
+        self.radius = factor * dnorm;
+    }
+}
+
+impl ModelChoice {
+    /// Retries a failed step from the same point with the other model, once per iteration.
+    fn retry_with_other(&mut self, ws: &mut Workspace) {
+        if !self.switched_this_iteration {
+            self.augmented = !self.augmented;
+            self.switched_this_iteration = true;
+            ws.build_model(self.augmented);
+        }
+    }
+}
+
+/// The state of one descent between iterations (everything but the workspace buffers).
+struct Descent<'o> {
+    opt: &'o Options,
+    counts: Counts,
+    /// f at `x` and at `x_prev`.
+    f: f64,
+    f_prev: f64,
+    radius: TrustRadius,
+    model: ModelChoice,
+    /// The last step was accepted: the next pass starts a new iteration.
+    need_jacobian: bool,
+    /// `jac` holds J at `x_prev` (the secant update needs the old Jacobian).
+    have_prev_jacobian: bool,
+    /// A good step saved while a longer one is tried.
+    good: Option<Good>,
+}
+
+/// Either the descent, or the report when the start already ends the solve.
+enum Start<'o> {
+    Descent(Descent<'o>),
+    Done(Report),
+}
+
+impl<'o> Descent<'o> {
+    /// Evaluates the start. Only here is a failed evaluation an error.
+    fn start<P: Problem>(
+        ws: &mut Workspace,
+        problem: &mut P,
+        opt: &'o Options,
+    ) -> Result<Start<'o>, SolveError> {
+        let (m, p) = (ws.m, ws.p);
+        if !problem.residuals(&ws.x[..p], &mut ws.r[..m]) {
+            return Err(SolveError::StartNotEvaluable);
+        }
+        let f = half_sum_squares(&ws.r[..m]);
+        if !f.is_finite() {
+            return Err(SolveError::StartNotEvaluable);
+        }
+        let d = Descent {
+            opt,
+            counts: Counts {
+                residuals: 1,
+                ..Counts::default()
+            },
+            f,
+            f_prev: f,
+            radius: TrustRadius {
+                rule: opt.radius_update,
+                radius: opt.initial_radius,
+                pending_factor: 0.0,
+                radinc: 0,
+            },
+            model: ModelChoice {
+                adaptive: opt.model == StepModel::Adaptive,
+                augmented: false,
+                switched_this_iteration: false,
+            },
+            need_jacobian: true,
+            have_prev_jacobian: false,
+            good: None,
+        };
+        if p == 0 {
+            return Ok(Start::Done(d.report(Outcome::RelativeFunctionConvergence)));
+        }
+        if f < opt.abs_function_tol {
+            return Ok(Start::Done(d.report(Outcome::AbsoluteFunctionConvergence)));
+        }
+        ws.s_mat[..p * p].fill(0.0);
+        Ok(Start::Descent(d))
+    }
+
+    fn report(&self, outcome: Outcome) -> Report {
+        Report {
+            outcome,
+            f: self.f,
+            iterations: self.counts.iterations,
+            residual_evaluations: self.counts.residuals,
+            jacobian_evaluations: self.counts.jacobians,
+        }
+    }
+
+    /// Starts an iteration at the accepted point: the Jacobian, the scaling `D`, the QR
+    /// factorization, the pending radius change and the secant update. A failed Jacobian returns
+    /// to the previous point with half the radius.
+    fn new_iteration<P: Problem>(
+        &mut self,
+        ws: &mut Workspace,
+        problem: &mut P,
+    ) -> Result<Option<Outcome>, SolveError> {
+        let (m, p) = (ws.m, ws.p);
+        if self.counts.iterations >= self.opt.max_iterations {
+            return Ok(Some(Outcome::IterationLimit));
+        }
+        if problem.should_stop() {
+            return Ok(Some(Outcome::Interrupted));
+        }
+        if self.have_prev_jacobian && self.model.adaptive {
+            // (J_old)^T r_new for y# before J is overwritten.
+            jt_vec(&ws.jac, &ws.r, m, p, &mut ws.ysharp);
+        }
+        self.counts.jacobians += 1;
+        let ok = problem.jacobian(&ws.x[..p], &mut ws.jac[..m * p])
+            && ws.jac[..m * p].iter().all(|v| v.is_finite());
+        if !ok {
+            if self.counts.iterations == 0 {
+                return Err(SolveError::StartNotEvaluable);
+            }
+            // Treat like a failed evaluation of the step that led here: go back. The
+            // factorization, g, J^T J and D still describe x_prev: they are only recomputed
+            // after a successful Jacobian.
+            ws.return_to_previous();
+            self.f = self.f_prev;
+            self.have_prev_jacobian = false;
+            self.need_jacobian = false;
+            self.radius.after_failed_jacobian();
+            if self.counts.iterations >= self.opt.max_iterations {
+                return Ok(Some(Outcome::IterationLimit));
+            }
+            return Ok(None);
+        }
+        self.counts.iterations += 1;
+        ws.update_scaling(self.counts.iterations == 1);
+        if self.counts.iterations == 1 {
+            // Optionally (Options::lift_round_off_radius), a first step that is a round-off
+            // change of x is lifted to sqrt(eps) relative to x in the scaled norm.
+            let norm_x = ws.scaled_norm_x();
+            if self.opt.lift_round_off_radius && self.radius.radius < ROUND_OFF_STEP * norm_x {
+                self.radius.radius = f64::EPSILON.sqrt() * norm_x;
+            }
+        }
+        ws.factor_jacobian();
+        self.radius.start_iteration(ws);
+        if self.have_prev_jacobian && self.model.adaptive {
+            // y = g_new - g_old, y# = J_new^T r_new - J_old^T r_new.
+            for i in 0..p {
+                ws.y[i] = ws.g[i] - ws.g_prev[i];
+                ws.ysharp[i] = ws.g[i] - ws.ysharp[i];
+            }
+            ws.secant_update();
+        }
+        self.have_prev_jacobian = true;
+        self.need_jacobian = false;
+        self.model.switched_this_iteration = false;
+        ws.build_model(self.model.augmented);
+        Ok(None)
+    }
+
+    /// Computes the step in the trust region and evaluates f there, or takes the saved good
+    /// step when the longer one is not worth evaluating or does not beat it.
+    fn trial_step<P: Problem>(&mut self, ws: &mut Workspace, problem: &mut P) -> TrialResult {
+        let (m, p) = (ws.m, ws.p);
+        let opt = self.opt;
+        let info = ws.compute_step(self.radius.radius, self.model.augmented);
+        if let Some(good) = self.good {
+            // DG7ITB: the longer step is evaluated only if it predicts more than 1.2 times the
+            // reduction the saved step achieved (and the budget allows); otherwise the saved
+            // step is taken.
+            let worthwhile = info.dnorm > 0.0
+                && info.preduc > 1.2 * (self.f - good.f)
+                && self.counts.residuals < opt.max_evaluations;
+            if !worthwhile {
+                return TrialResult::Evaluated(self.restore_good(ws));
+            }
+        }
+        if info.dnorm == 0.0 || !(info.preduc > 0.0) {
+            // No descent step inside the box. With a zero step (projected gradient exactly zero)
+            // or a Gauss-Newton reduction within tolerance, x is stationary on its active face,
+            // which both reductions being zero signals to N2FB. Otherwise (the model predicts no
+            // decrease though f is not known to be optimal) report singular convergence, never a
+            // success code.
+            let emax = opt.rel_function_tol * self.f.abs();
+            let stationary = (info.dnorm == 0.0 || (info.nreduc >= 0.0 && info.nreduc <= emax))
+                && !info.dead_free
+                && ws.gradient_permits_rel_conv(opt.rel_function_tol);
+            return TrialResult::Stop(if stationary {
+                Outcome::RelativeFunctionConvergence
+            } else {
+                Outcome::SingularConvergence
+            });
+        }
+        if self.counts.residuals >= opt.max_evaluations {
+            return TrialResult::Stop(Outcome::EvaluationLimit);
+        }
+        for i in 0..p {
+            ws.x_trial[i] = (ws.x[i] + ws.step[i]).clamp(ws.lo[i], ws.hi[i]);
+        }
+        self.counts.residuals += 1;
+        let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
+        let f_trial = if evaluated {
+            half_sum_squares(&ws.r_trial[..m])
+        } else {
+            f64::NAN
+        };
+        let reldx = ws.reldx(&ws.x_trial, &ws.x);
+        if let Some(good) = self.good {
+            // DA7SST: a longer step that does not beat the saved one (or cannot be evaluated)
+            // is dropped and the saved step taken.
+            if !(f_trial < good.f) {
+                return TrialResult::Evaluated(self.restore_good(ws));
+            }
+            self.good = None;
+        }
+        if !f_trial.is_finite() {
+            // Failed evaluation: reject the step and shrink the radius.
+            self.radius.after_failed_evaluation(info.dnorm);
+            if reldx <= opt.false_conv_tol {
+                return TrialResult::Stop(Outcome::FalseConvergence);
+            }
+            return TrialResult::Failed;
+        }
+        TrialResult::Evaluated(Trial {
+            info,
+            f: f_trial,
+            reldx,
+            restored: false,
+        })
+    }
+
+    /// Takes the saved good step back as the trial step.
+    fn restore_good(&mut self, ws: &mut Workspace) -> Trial {
+        let good = self.good.take().expect("a saved good step");
+        ws.swap_good();
+        Trial {
+            info: good.info,
+            f: good.f,
+            reldx: good.reldx,
+            restored: true,
+        }
+    }
+
+    /// Keeps a good step and tries the longer one from the same point (same Jacobian).
+    fn keep_good(&mut self, ws: &mut Workspace, trial: &Trial) {
+        ws.swap_good();
+        self.good = Some(Good {
+            f: trial.f,
+            info: trial.info,
+            reldx: trial.reldx,
+        });
+    }
+
+    /// Accept or reject the step (actual against predicted reduction), and whether the other
+    /// model (adaptive choice) would have predicted the actual reduction better.
+    fn assess(&self, ws: &mut Workspace, trial: &Trial) -> Assessment {
+        let f0 = self.f;
+        let ared = f0 - trial.f;
+        let ratio = ared / trial.info.preduc;
+        let accepted = ared > 0.0 && ratio > ACCEPT_RATIO;
+        let mut switch_models = false;
+        if self.model.adaptive && !trial.restored && !(ared > 0.1 * trial.info.preduc) {
+            let augmented = self.model.augmented;
+            // The augmented model predicts `pred_gn - 0.5 s^T S s` (this sign was reversed
+            // before, so the adaptive solver never left the Gauss-Newton model).
+            let (pred, sss) = ws.predicted(augmented);
+            let pred_alt = if augmented {
+                pred + 0.5 * sss
+            } else {
+                pred - 0.5 * sss
+            };
+            if (ared - pred_alt).abs() < (ared - trial.info.preduc).abs() && sss != 0.0 {
+                switch_models = true;
+            }
+        }
+        Assessment {
+            f0,
+            ared,
+            ratio,
+            accepted,
+            switch_models,
+        }
+    }
+
+    /// NL2SOL's convergence tests after a step, run only when the model is trusted (actual
+    /// reduction at most twice PREDUC): X-, relative function and singular convergence.
+    fn convergence_test(
+        &self,
+        ws: &mut Workspace,
+        trial: &Trial,
+        a: &Assessment,
+    ) -> Option<Outcome> {
+        let opt = self.opt;
+        let info = &trial.info;
+        if !(a.ared <= 2.0 * info.preduc) {
+            return None;
+        }
+        let emax = opt.rel_function_tol * a.f0.abs();
+        let emaxs = opt.singular_tol * a.f0.abs();
+        // The gate on the projected gradient (computed at x0 = ws.x, where NREDUC was) keeps a
+        // broken NREDUC from claiming convergence; see `gradient_permits_rel_conv`.
+        let rel = ((info.nreduc > 0.0 && info.nreduc <= emax)
+            || (info.nreduc == 0.0 && info.preduc == 0.0))
+            && ws.gradient_permits_rel_conv(opt.rel_function_tol);
+        // A restored step is not the last one computed (NL2SOL's GOODX = false).
+        let xconv = info.newton && a.accepted && !trial.restored && trial.reldx <= opt.x_tol;
+        match (xconv, rel) {
+            (true, true) => return Some(Outcome::BothConvergence),
+            (true, false) => return Some(Outcome::XConvergence),
+            (false, true) => return Some(Outcome::RelativeFunctionConvergence),
+            (false, false) => {}
+        }
+        if info.preduc <= emaxs {
+            // N2FB tests a step of scaled length LMAXS. When the scaling makes that step tiny
+            // next to x itself (huge Jacobian columns, ||D x|| >> LMAXS), a small PREDUC says
+            // nothing about singularity: the region is just small and the projected gradient
+            // may still be large. So the test step is at least as long as x (our change; see
+            // the crate docs, "Singular convergence").
+            let test_radius = opt.singular_radius.max(ws.scaled_norm_x());
+            if info.dnorm > test_radius || info.newton {
+                return Some(Outcome::SingularConvergence);
+            }
+            // Re-solve at the test radius from x0 without evaluating f.
+            if ws.singular_test_reduction(test_radius, self.model.augmented) <= emaxs {
+                return Some(Outcome::SingularConvergence);
+            }
+        }
+        None
+    }
+
+    /// Accepts the trial point; RADFAC is applied at the next iteration.
+    fn accept(&mut self, ws: &mut Workspace, trial: &Trial, a: &Assessment, change: &RadiusChange) {
+        ws.accept_trial();
+        self.f_prev = self.f;
+        self.f = trial.f;
+        self.need_jacobian = true;
+        self.radius.pending_factor = change.factor;
+        if self.radius.rule == RadiusUpdate::Nl2sol && change.factor == 1.0 {
+            // Model Hessian times the step, for the gradient tests at the new point.
+            sym_mat_vec(&ws.h, &ws.step, ws.p, &mut ws.h_step);
+        }
+        if a.switch_models {
+            self.model.augmented = !self.model.augmented;
+        }
+    }
+
+    /// The tests after the convergence tests: absolute function convergence after an accepted
+    /// step, false convergence after a rejected or poor one whose RELDX is at round-off.
+    fn stop_test(&self, trial: &Trial, a: &Assessment) -> Option<Outcome> {
+        if a.accepted && self.f < self.opt.abs_function_tol {
+            return Some(Outcome::AbsoluteFunctionConvergence);
+        }
+        if (!a.accepted || a.ratio < 0.1) && trial.reldx <= self.opt.false_conv_tol {
+            return Some(Outcome::FalseConvergence);
+        }
+        None
+    }
+}
+
 /// The main loop (see the crate docs for the tests and their precedence).
 fn iterate<P: Problem>(
     ws: &mut Workspace,
     problem: &mut P,
     opt: &Options,
 ) -> Result<Report, SolveError> {
-    let (m, p) = (ws.m, ws.p);
-    let mut nfev = 1usize;
-    let mut njev = 0usize;
-    let mut iterations = 0usize;
-    if !problem.residuals(&ws.x[..p], &mut ws.r[..m]) {
-        return Err(SolveError::StartNotEvaluable);
-    }
-    let mut f = half_sum_squares(&ws.r[..m]);
-    if !f.is_finite() {
-        return Err(SolveError::StartNotEvaluable);
-    }
-    let done = |outcome: Outcome, f: f64, iterations: usize, nfev: usize, njev: usize| Report {
-        outcome,
-        f,
-        iterations,
-        residual_evaluations: nfev,
-        jacobian_evaluations: njev,
-    };
-    if p == 0 || f < opt.abs_function_tol {
-        let outcome = if p == 0 {
-            Outcome::RelativeFunctionConvergence
-        } else {
-            Outcome::AbsoluteFunctionConvergence
-        };
-        return Ok(done(outcome, f, 0, nfev, njev));
-    }
-    let mut augmented = false;
-    let adaptive = opt.model == StepModel::Adaptive;
-    ws.s_mat[..p * p].fill(0.0);
-    let mut radius = opt.initial_radius;
-    let mut need_jacobian = true;
-    // Whether `jac` holds J at `x_prev` (the secant update needs the old Jacobian).
-    let mut have_prev_jacobian = false;
-    let mut switched_this_iteration = false;
-    let mut f_prev = f;
-    // RADFAC of the last accepted step: the radius becomes RADFAC * ||D_new s|| once the new
-    // scaling is known.
-    let mut radfac_pending = 0.0f64;
-    // Radius decreases so far in this iteration (NL2SOL's RADINC, negative): after one, a good
-    // step keeps the radius instead of increasing it.
-    let mut radinc: i32 = 0;
-    let nl2sol_radius = opt.radius_update == RadiusUpdate::Nl2sol;
-    // A good step saved while a longer one is tried (NL2SOL's FLSTGD, PLSTGD, DSTSAV).
-    let mut have_good = false;
-    let mut good = Good {
-        f,
-        info: StepInfo {
-            preduc: 0.0,
-            nreduc: -1.0,
-            newton_norm: -1.0,
-            newton: false,
-            dnorm: 0.0,
-        },
-        reldx: 0.0,
+    let mut descent = match Descent::start(ws, problem, opt)? {
+        Start::Done(report) => return Ok(report),
+        Start::Descent(d) => d,
     };
     loop {
-        if need_jacobian {
-            if iterations >= opt.max_iterations {
-                return Ok(done(Outcome::IterationLimit, f, iterations, nfev, njev));
-            }
-            if have_prev_jacobian && adaptive {
-                // (J_old)^T r_new for y# before J is overwritten.
-                jt_vec(&ws.jac, &ws.r, m, p, &mut ws.ysharp);
-            }
-            njev += 1;
-            let ok = problem.jacobian(&ws.x[..p], &mut ws.jac[..m * p])
-                && ws.jac[..m * p].iter().all(|v| v.is_finite());
-            if !ok {
-                if iterations == 0 {
-                    return Err(SolveError::StartNotEvaluable);
-                }
-                // Treat like a failed evaluation of the step that led here: go back.
-                ws.x[..p].copy_from_slice(&ws.x_prev[..p]);
-                ws.r[..m].copy_from_slice(&ws.r_prev[..m]);
-                // The factorization, g, J^T J and D still describe x_prev: they are only
-                // recomputed after a successful Jacobian.
-                f = f_prev;
-                have_prev_jacobian = false;
-                need_jacobian = false;
-                radius *= 0.5;
-                radfac_pending = 0.0;
-                if iterations >= opt.max_iterations {
-                    return Ok(done(Outcome::IterationLimit, f, iterations, nfev, njev));
-                }
-            } else {
-                iterations += 1;
-                ws.update_scaling(iterations == 1);
-                radinc = 0;
-                ws.factor_jacobian();
-                if nl2sol_radius && radfac_pending > 0.0 {
-                    if radfac_pending == 1.0 && ws.gradient_tests() {
-                        radfac_pending = 2.0;
-                    }
-                    // N2FB (DG7ITB): t = RADFAC * ||D_new s||; the radius becomes t when
-                    // RADFAC < 1 or t is larger, so a short step never shrinks it otherwise.
-                    let mut s2 = 0.0;
-                    for i in 0..p {
-                        let v = ws.d[i] * (ws.x[i] - ws.x_prev[i]);
-                        s2 += v * v;
-                    }
-                    let t = radfac_pending * s2.sqrt();
-                    if radfac_pending < 1.0 || t > radius {
-                        radius = t;
-                    }
-                    radfac_pending = 0.0;
-                }
-                if have_prev_jacobian && adaptive {
-                    // y = g_new - g_old, y# = J_new^T r_new - J_old^T r_new.
-                    for i in 0..p {
-                        ws.y[i] = ws.g[i] - ws.g_prev[i];
-                        ws.ysharp[i] = ws.g[i] - ws.ysharp[i];
-                    }
-                    ws.secant_update();
-                }
-                have_prev_jacobian = true;
-                need_jacobian = false;
-                switched_this_iteration = false;
-                ws.build_model(augmented);
-            }
+        if descent.need_jacobian
+            && let Some(outcome) = descent.new_iteration(ws, problem)?
+        {
+            return Ok(descent.report(outcome));
         }
-
-        let mut info = ws.compute_step(radius, augmented);
-        let mut restored = false;
-        let mut f_trial = f64::NAN;
-        let mut reldx = 0.0;
-        if have_good {
-            // DG7ITB: the longer step is evaluated only if it predicts more than 1.2 times the
-            // reduction the saved step achieved (and the budget allows); otherwise the saved
-            // step is taken.
-            let worthwhile =
-                info.dnorm > 0.0 && info.preduc > 1.2 * (f - good.f) && nfev < opt.max_evaluations;
-            if !worthwhile {
-                have_good = false;
-                ws.swap_good();
-                (info, f_trial, reldx, restored) = (good.info, good.f, good.reldx, true);
-            }
-        }
-        if !restored {
-            if info.dnorm == 0.0 || !(info.preduc > 0.0) {
-                // No descent step inside the box. With a zero step (projected gradient exactly
-                // zero) or a Gauss-Newton reduction within tolerance, x is stationary on its
-                // active face, which both reductions being zero signals to N2FB. Otherwise (the
-                // model predicts no decrease though f is not known to be optimal) report
-                // singular convergence, never a success code.
-                let emax = opt.rel_function_tol * f.abs();
-                let stationary = info.dnorm == 0.0 || (info.nreduc >= 0.0 && info.nreduc <= emax);
-                let outcome = if stationary {
-                    Outcome::RelativeFunctionConvergence
-                } else {
-                    Outcome::SingularConvergence
-                };
-                return Ok(done(outcome, f, iterations, nfev, njev));
-            }
-            if nfev >= opt.max_evaluations {
-                return Ok(done(Outcome::EvaluationLimit, f, iterations, nfev, njev));
-            }
-            for i in 0..p {
-                ws.x_trial[i] = (ws.x[i] + ws.step[i]).clamp(ws.lo[i], ws.hi[i]);
-            }
-            nfev += 1;
-            let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
-            f_trial = if evaluated {
-                half_sum_squares(&ws.r_trial[..m])
-            } else {
-                f64::NAN
-            };
-            reldx = ws.reldx(&ws.x_trial, &ws.x);
-            if have_good {
-                // DA7SST: a longer step that does not beat the saved one (or cannot be
-                // evaluated) is dropped and the saved step taken.
-                have_good = false;
-                if !(f_trial < good.f) {
-                    ws.swap_good();
-                    (info, f_trial, reldx, restored) = (good.info, good.f, good.reldx, true);
-                }
-            }
-            if !f_trial.is_finite() {
-                // Failed evaluation: reject the step and shrink the radius.
-                radius = 0.5 * info.dnorm.min(radius);
-                radinc -= 1;
-                if reldx <= opt.false_conv_tol {
-                    return Ok(done(Outcome::FalseConvergence, f, iterations, nfev, njev));
-                }
-                continue;
-            }
-        }
-        let f0 = f;
-        let ared = f0 - f_trial;
-        let ratio = ared / info.preduc;
-        let accepted = ared > 0.0 && ratio > ACCEPT_RATIO;
-
-        // Model switch (adaptive): would the other model have predicted this reduction better?
-        let mut switch_models = false;
-        if adaptive && !restored {
-            let (pred, sss) = ws.predicted(augmented);
-            let pred_alt = if augmented {
-                pred - 0.5 * sss
-            } else {
-                pred + 0.5 * sss
-            };
-            if (ared - pred_alt).abs() < (ared - info.preduc).abs() && sss != 0.0 {
-                switch_models = true;
-            }
-        }
-
-        let mut radfac = 0.0;
-        let mut try_longer = false;
-        if nl2sol_radius {
-            // NL2SOL's DA7SST: the new radius is RADFAC times the scaled length of the step; after
-            // an accepted step it is set at the next Jacobian, with the updated D (DG7ITB).
-            let gts = dot(&ws.g[..p], &ws.step[..p]);
-            radfac = if !accepted || ared <= 0.1 * info.preduc {
-                // Fletcher's decrease factor: minimiser of the quadratic through f0, the slope
-                // g^T s and f_trial along the step, within [0.1, 0.5].
-                let emax = gts + ared;
-                if emax < gts {
-                    (0.5 * gts / emax).max(0.1)
-                } else {
-                    0.5
-                }
-            } else if !restored && radinc >= 0 && ared >= -0.75 * gts {
-                // Good decrease, at least 3/4 of the linear prediction -g^T s (not of PREDUC:
-                // with lambda near 0, -g^T s is twice PREDUC), and no decrease earlier in this
-                // iteration: factor 2..4. Unless this was the Newton step, or the Newton step is
-                // less than twice as long or predicts less than 1.2 times this reduction, the
-                // longer step is tried at once from the same point (IRC = 5, no new Jacobian).
-                let mut up = 4.0;
-                if ared < (0.5 / up - 1.0) * gts {
-                    up = (0.5 * gts / (gts + ared)).max(2.0);
-                }
-                let newton_close = info.newton_norm >= 0.0
-                    && (info.newton_norm < 2.0 * info.dnorm || info.nreduc < 1.2 * ared);
-                try_longer = !info.newton && !newton_close && !adaptive && radinc < MAX_RADINC;
-                up
-            } else {
-                1.0
-            };
-            if !accepted {
-                radius = radfac * info.dnorm;
-                radinc -= 1;
-            }
-        } else if !accepted {
-            let g_s = dot(&ws.g[..p], &ws.step[..p]);
-            // Minimiser of the quadratic through f0, slope g^T s, and f_trial along the step.
-            let denom = 2.0 * (f_trial - f0 - g_s);
-            let t = if denom > 0.0 { -g_s / denom } else { 0.5 };
-            radius = t.clamp(0.1, 0.5) * info.dnorm.min(radius);
-        } else if ratio < 0.25 {
-            radius = 0.5 * info.dnorm.min(radius).max(0.25 * radius);
-        } else if ratio > 0.75 {
-            radius = (4.0 * radius).min(radius.max(2.0 * info.dnorm));
-        }
-
-        // Convergence tests (NL2SOL's assessment), only when the model is trusted.
-        let mut outcome: Option<Outcome> = None;
-        if ared <= 2.0 * info.preduc {
-            let emax = opt.rel_function_tol * f0.abs();
-            let emaxs = opt.singular_tol * f0.abs();
-            let rel = (info.nreduc > 0.0 && info.nreduc <= emax)
-                || (info.nreduc == 0.0 && info.preduc == 0.0);
-            // A restored step is not the last one computed (NL2SOL's GOODX = false).
-            let xconv = info.newton && accepted && !restored && reldx <= opt.x_tol;
-            outcome = match (xconv, rel) {
-                (true, true) => Some(Outcome::BothConvergence),
-                (true, false) => Some(Outcome::XConvergence),
-                (false, true) => Some(Outcome::RelativeFunctionConvergence),
-                (false, false) => None,
-            };
-            if outcome.is_none() && info.preduc <= emaxs {
-                if info.dnorm > opt.singular_radius || info.newton {
-                    outcome = Some(Outcome::SingularConvergence);
-                } else {
-                    // Re-solve at radius LMAXS from x0 without evaluating f.
-                    std::mem::swap(&mut ws.step, &mut ws.step_alt);
-                    let saved_lambda = ws.lambda;
-                    let alt = ws.compute_step(opt.singular_radius, augmented);
-                    ws.lambda = saved_lambda;
-                    std::mem::swap(&mut ws.step, &mut ws.step_alt);
-                    if alt.preduc <= emaxs {
-                        outcome = Some(Outcome::SingularConvergence);
-                    }
-                }
-            }
-        }
-
-        if try_longer && outcome.is_none() {
-            // Keep this good step and try the longer one (same x, same Jacobian).
-            ws.swap_good();
-            good = Good {
-                f: f_trial,
-                info,
-                reldx,
-            };
-            have_good = true;
-            radinc += 1;
-            radius = radfac * info.dnorm;
+        let trial = match descent.trial_step(ws, problem) {
+            TrialResult::Stop(outcome) => return Ok(descent.report(outcome)),
+            TrialResult::Failed => continue,
+            TrialResult::Evaluated(trial) => trial,
+        };
+        let assessment = descent.assess(ws, &trial);
+        let gts = dot(&ws.g[..ws.p], &ws.step[..ws.p]);
+        let change = descent
+            .radius
+            .after_step(&trial, &assessment, gts, descent.model.adaptive);
+        let converged = descent.convergence_test(ws, &trial, &assessment);
+        if change.try_longer && converged.is_none() {
+            descent.keep_good(ws, &trial);
+            descent.radius.try_longer(change.factor, trial.info.dnorm);
             continue;
         }
-
-        if accepted {
-            ws.x_prev[..p].copy_from_slice(&ws.x[..p]);
-            ws.r_prev[..m].copy_from_slice(&ws.r[..m]);
-            ws.g_prev[..p].copy_from_slice(&ws.g[..p]);
-            f_prev = f;
-            ws.x[..p].copy_from_slice(&ws.x_trial[..p]);
-            std::mem::swap(&mut ws.r, &mut ws.r_trial);
-            f = f_trial;
-            need_jacobian = true;
-            radfac_pending = radfac;
-            if nl2sol_radius && radfac == 1.0 {
-                // Model Hessian times the step, for the gradient tests at the new point.
-                sym_mat_vec(&ws.h, &ws.step, p, &mut ws.w);
-            }
-            if switch_models {
-                augmented = !augmented;
-            }
+        if assessment.accepted {
+            descent.accept(ws, &trial, &assessment, &change);
         }
-        if let Some(o) = outcome {
-            return Ok(done(o, f, iterations, nfev, njev));
+        if let Some(outcome) = converged.or_else(|| descent.stop_test(&trial, &assessment)) {
+            return Ok(descent.report(outcome));
         }
-        if accepted && f < opt.abs_function_tol {
-            return Ok(done(
-                Outcome::AbsoluteFunctionConvergence,
-                f,
-                iterations,
-                nfev,
-                njev,
-            ));
-        }
-        if (!accepted || ratio < 0.1) && reldx <= opt.false_conv_tol {
-            return Ok(done(Outcome::FalseConvergence, f, iterations, nfev, njev));
-        }
-        if !accepted && switch_models && !switched_this_iteration {
-            // The other model explains the failure better: retry from x with it.
-            augmented = !augmented;
-            switched_this_iteration = true;
-            ws.build_model(augmented);
+        if !assessment.accepted && assessment.switch_models {
+            descent.model.retry_with_other(ws);
         }
     }
-}
-
-/// A good step kept while a longer one is tried from the same point.
-#[derive(Clone, Copy, Debug)]
-struct Good {
-    f: f64,
-    info: StepInfo,
-    reldx: f64,
 }

@@ -1,2 +1,3 @@
 pub mod expsum;
+pub mod mgh_run;
 pub mod nist;

@@ -1,0 +1,185 @@
+//! Robustness: no premature singular convergence while the gradient is large, the caller's
+//! stop hook, and the MGH collection (no success code on a wrong answer).
+
+mod common;
+
+use bounded_lm::problems::mgh::{Kind, Mgh};
+use bounded_lm::{Options, Outcome, Problem, Solver};
+use common::mgh_run;
+
+const INF: f64 = f64::INFINITY;
+
+/// `y = a exp(b t)` fitted from a start with a steep exponential: the Jacobian columns are
+/// ~1e13, so a step of scaled length 1 (N2FB's LMAX0 and LMAXS) is a round-off change of x and
+/// predicts no relative reduction, although the gradient is huge.
+struct SteepExp;
+impl Problem for SteepExp {
+    fn residual_count(&self) -> usize {
+        12
+    }
+    fn parameter_count(&self) -> usize {
+        2
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        for (i, ri) in r.iter_mut().enumerate() {
+            let t = i as f64 / 11.0;
+            *ri = x[0] * (x[1] * t).exp() - 2.0 * (0.5 * t).exp();
+        }
+        r.iter().all(|v| v.is_finite())
+    }
+    fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
+        for i in 0..12 {
+            let t = i as f64 / 11.0;
+            let e = (x[1] * t).exp();
+            j[i] = e;
+            j[12 + i] = x[0] * t * e;
+        }
+        true
+    }
+}
+
+fn gradient_norm(prob: &mut impl Problem, x: &[f64]) -> f64 {
+    let (m, n) = (prob.residual_count(), prob.parameter_count());
+    let (mut r, mut j) = (vec![0.0; m], vec![0.0; m * n]);
+    prob.residuals(x, &mut r);
+    prob.jacobian(x, &mut j);
+    (0..n)
+        .map(|k| (0..m).map(|i| j[k * m + i] * r[i]).sum::<f64>().powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+#[test]
+fn no_singular_convergence_while_the_gradient_is_large() {
+    let mut x = [1.0, 30.0];
+    let g0 = gradient_norm(&mut SteepExp, &x);
+    let rep = Solver::new()
+        .solve(
+            &mut SteepExp,
+            &mut x,
+            &[-INF; 2],
+            &[INF; 2],
+            &Options::default(),
+        )
+        .unwrap();
+    let g = gradient_norm(&mut SteepExp, &x);
+    if matches!(
+        rep.outcome,
+        Outcome::SingularConvergence | Outcome::FalseConvergence
+    ) {
+        assert!(g < 1e-6 * g0, "{rep:?} at {x:?}: gradient {g} (start {g0})");
+    }
+    assert!(rep.outcome.is_success(), "{rep:?} {x:?}");
+    assert!(
+        (x[0] - 2.0).abs() < 1e-6 && (x[1] - 0.5).abs() < 1e-6,
+        "{x:?}"
+    );
+
+    // MGH's Jennrich-Sampson from 10 x0 (f = 2.8e34): this returned singular convergence after
+    // one iteration and 2 evaluations, at the start, with a gradient of ~1e36.
+    // With the default options (N2FB's LMAX0 = 1, a round-off step there) it ends with an
+    // honest failure code; with the first radius lifted above round-off it is solved.
+    let mut p = Mgh::new(Kind::JennrichSampson, 2, 10);
+    let mut x = p.start(10.0);
+    let rep = Solver::new()
+        .solve(&mut p, &mut x, &[-INF; 2], &[INF; 2], &Options::default())
+        .unwrap();
+    assert!(!rep.outcome.is_success() || rep.f < 1e3, "{rep:?}");
+    let lifted = Options {
+        lift_round_off_radius: true,
+        ..Options::default()
+    };
+    let mut x = p.start(10.0);
+    let rep = Solver::new()
+        .solve(&mut p, &mut x, &[-INF; 2], &[INF; 2], &lifted)
+        .unwrap();
+    assert!(rep.iterations > 1 && rep.f < 1e3, "{rep:?}");
+}
+
+/// Stops after `limit` calls of the hook.
+struct Stopping {
+    calls: usize,
+    limit: usize,
+}
+impl Problem for Stopping {
+    fn residual_count(&self) -> usize {
+        2
+    }
+    fn parameter_count(&self) -> usize {
+        2
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        r[0] = 10.0 * (x[1] - x[0] * x[0]);
+        r[1] = 1.0 - x[0];
+        true
+    }
+    fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
+        j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
+        true
+    }
+    fn should_stop(&mut self) -> bool {
+        self.calls += 1;
+        self.calls > self.limit
+    }
+}
+
+#[test]
+fn should_stop_interrupts_between_iterations() {
+    let mut prob = Stopping { calls: 0, limit: 3 };
+    let mut x = [-1.2, 1.0];
+    let rep = Solver::new()
+        .solve(
+            &mut prob,
+            &mut x,
+            &[-INF; 2],
+            &[INF; 2],
+            &Options::default(),
+        )
+        .unwrap();
+    assert_eq!(rep.outcome, Outcome::Interrupted);
+    assert_eq!(rep.outcome.code(), 11);
+    assert!(!rep.outcome.is_success());
+    assert_eq!(rep.iterations, 3);
+    assert_eq!(prob.calls, 4, "asked once per iteration");
+    // x is the last accepted point and f belongs to it.
+    let mut r = [0.0; 2];
+    prob.residuals(&x, &mut r);
+    assert_eq!(rep.f, 0.5 * (r[0] * r[0] + r[1] * r[1]));
+    // Never stopping changes nothing.
+    let mut prob = Stopping {
+        calls: 0,
+        limit: usize::MAX,
+    };
+    let mut x = [-1.2, 1.0];
+    let rep = Solver::new()
+        .solve(
+            &mut prob,
+            &mut x,
+            &[-INF; 2],
+            &[INF; 2],
+            &Options::default(),
+        )
+        .unwrap();
+    assert!(rep.outcome.is_success());
+    assert_eq!(prob.calls, rep.iterations);
+}
+
+/// MGH, unbounded and boxed, from x0 and 10 x0: never a success code on a wrong answer, every
+/// boxed case solved or an honest failure code, and at least the measured count solved.
+#[test]
+fn mgh_collection() {
+    let runs = mgh_run::run_all(&Options::default());
+    let summary = mgh_run::summary(&runs);
+    let table = mgh_run::table(&runs);
+    for r in &runs {
+        assert!(
+            !r.wrong_success(),
+            "success code on a wrong answer: {r:?}\n{table}"
+        );
+    }
+    let solved = runs
+        .iter()
+        .filter(|r| r.bound.is_none() && r.solved)
+        .count();
+    assert!(solved >= 66, "{summary}\n{table}");
+}
