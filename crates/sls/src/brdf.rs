@@ -2,7 +2,7 @@
 
 use crate::SearchRng;
 use crate::objective::{Objective, Rows};
-use brdf_model::{DataSet, Evaluator, Layout, Subsampler};
+use brdf_model::{DataSet, Evaluator, Kernel, KernelError, Layout, Subsampler};
 use std::sync::Arc;
 
 /// Fitting a Lafortune BRDF ([`Layout`]) to a data set by RMSE, in the layout's internal
@@ -17,6 +17,8 @@ use std::sync::Arc;
 pub struct BrdfObjective {
     data: Arc<DataSet>,
     layout: Layout,
+    /// The concrete evaluation kernel every workspace uses.
+    kernel: Kernel,
 }
 
 /// Per-trial scratch of a [`BrdfObjective`].
@@ -29,9 +31,37 @@ pub struct BrdfWorkspace {
 }
 
 impl BrdfObjective {
-    /// The problem of fitting `layout` to `data`.
+    /// The problem of fitting `layout` to `data`, evaluated with the fastest kernel the CPU
+    /// has ([`Kernel::Auto`]).
     pub fn new(data: Arc<DataSet>, layout: Layout) -> Self {
-        Self { data, layout }
+        Self {
+            data,
+            layout,
+            kernel: Kernel::Auto.resolve().unwrap_or(Kernel::Portable),
+        }
+    }
+
+    /// [`BrdfObjective::new`] with the evaluation kernel `kernel` (resolved here: every trial's
+    /// workspace uses the same concrete kernel).
+    ///
+    /// # Errors
+    /// [`KernelError::Unavailable`] when the CPU lacks the requested kernel.
+    pub fn with_kernel(
+        data: Arc<DataSet>,
+        layout: Layout,
+        kernel: Kernel,
+    ) -> Result<Self, KernelError> {
+        Ok(Self {
+            data,
+            layout,
+            kernel: kernel.resolve()?,
+        })
+    }
+
+    /// The concrete kernel in use (never [`Kernel::Auto`]); `kernel().name()` (`"avx512"`,
+    /// `"avx2"`, `"portable"`, `"scalar"`) is what to record next to results.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
     }
 
     /// The parameter layout (decode `TrialResult::best_x` with `layout().decode`).
@@ -50,7 +80,8 @@ impl Objective for BrdfObjective {
 
     fn workspace(&self) -> BrdfWorkspace {
         BrdfWorkspace {
-            evaluator: Evaluator::new(&self.layout),
+            evaluator: Evaluator::with_kernel(&self.layout, self.kernel)
+                .expect("the kernel was resolved on this CPU when the objective was built"),
             subsampler: Subsampler::new(self.data.len()),
             subsample: DataSet::new(),
             full: true,
@@ -75,6 +106,20 @@ impl Objective for BrdfObjective {
 
     fn rmse(&self, ws: &mut BrdfWorkspace, x: &[f64]) -> f64 {
         ws.evaluator.rmse(x, &self.data)
+    }
+
+    fn rmse_below(&self, ws: &mut BrdfWorkspace, x: &[f64], bound: f64) -> (Option<f64>, usize) {
+        let n = self.data.len();
+        if n == 0 || bound == f64::INFINITY {
+            return (Some(ws.evaluator.rmse(x, &self.data)), n);
+        }
+        // The sum-of-squares bound, widened by 1e-12 relative so that `None` means the RMSE is
+        // above `bound` beyond any rounding of the square root and division.
+        let ss_bound = bound.max(0.0).powi(2) * n as f64 * (1.0 + 1e-12);
+        let s = ws.evaluator.sum_squares_below(x, &self.data, ss_bound);
+        // The same arithmetic as `Evaluator::rmse`, so an exact result is identical to it.
+        let rmse = s.sum_squares.map(|ss| (ss / n as f64).sqrt());
+        (rmse, s.samples)
     }
 
     fn select(&self, ws: &mut BrdfWorkspace, rows: Rows, rng: &mut SearchRng) -> usize {

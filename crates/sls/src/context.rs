@@ -11,13 +11,20 @@ use cpu_time::ThreadTime;
 use rand::SeedableRng;
 use std::time::Instant;
 
-/// Read the CPU clock (about 0.4 us) only after this many sample-evaluations since the last read:
-/// a few tens of microseconds of model evaluation, so a trial overshoots a CPU cutoff by well
-/// under a millisecond while the clock costs under 2% on 25-row descents.
-const CLOCK_CHECK_ROWS: u64 = 4096;
-/// ... or after this many charged operations, whichever comes first (guards against work that is
-/// not proportional to rows, e.g. solver linear algebra on tiny subsamples).
-const CLOCK_CHECK_CALLS: u32 = 64;
+/// When the CPU clock is read. A thread's CPU time can only advance as fast as wall time, so
+/// after a read that left `R` seconds of the CPU budget, the budget cannot be spent before `R`
+/// wall seconds have passed. Every charge and every [`Problem::should_stop`] reads the wall clock
+/// (`Instant`, a vDSO call of a few tens of nanoseconds, negligible next to even a 25-row
+/// evaluation) and reads the thread's CPU clock (a system call, about 0.4 us) only once that
+/// much wall time has passed (times [`CLOCK_SLACK`], for the two clocks' granularity), or at
+/// least every [`CLOCK_MAX_INTERVAL`] seconds. So the CPU cutoff is noticed at the first call
+/// after it, whatever the model size or the work between calls, while the CPU clock is read a
+/// handful of times per trial plus once per call only in the last stretch before the cutoff
+/// (an earlier version read it every 4096 rows or 64 calls, which let 64 slow solver steps of a
+/// 16-lobe model pass unchecked: 3 s over a 0.05 s cutoff).
+const CLOCK_SLACK: f64 = 0.95;
+/// The longest wall-time interval between two reads of the CPU clock, in seconds.
+const CLOCK_MAX_INTERVAL: f64 = 0.05;
 
 /// Which counter a charge goes to.
 #[derive(Clone, Copy)]
@@ -33,8 +40,10 @@ struct Meter {
     budget: Budget,
     cpu: ThreadTime,
     wall: Instant,
-    rows_since_clock: u64,
-    calls_since_clock: u32,
+    /// Wall time of the last CPU-clock read.
+    last_read: Instant,
+    /// Wall seconds after `last_read` before the CPU clock must be read again.
+    next_read: f64,
     stopped: Option<Stop>,
 }
 
@@ -45,8 +54,10 @@ impl Meter {
             budget,
             cpu: ThreadTime::now(),
             wall: Instant::now(),
-            rows_since_clock: 0,
-            calls_since_clock: 0,
+            last_read: Instant::now(),
+            next_read: budget
+                .cpu_seconds
+                .map_or(f64::INFINITY, |c| (c * CLOCK_SLACK).min(CLOCK_MAX_INTERVAL)),
             stopped: None,
         }
     }
@@ -64,12 +75,7 @@ impl Meter {
         {
             return Err(self.stop(Stop::EvaluationBudget));
         }
-        self.rows_since_clock += rows;
-        self.calls_since_clock += 1;
-        if self.rows_since_clock >= CLOCK_CHECK_ROWS || self.calls_since_clock >= CLOCK_CHECK_CALLS
-        {
-            self.check_clock()?;
-        }
+        self.poll_clock()?;
         match kind {
             Kind::Residual => self.counts.residual_rows += rows,
             Kind::Jacobian => self.counts.jacobian_rows += rows,
@@ -78,15 +84,31 @@ impl Meter {
         Ok(())
     }
 
+    /// Stops if the CPU cutoff is spent, reading the CPU clock only when the wall time since the
+    /// last read says it may be (see [`CLOCK_SLACK`]).
+    fn poll_clock(&mut self) -> Result<(), Stop> {
+        if let Some(stop) = self.stopped {
+            return Err(stop);
+        }
+        if self.budget.cpu_seconds.is_some()
+            && self.last_read.elapsed().as_secs_f64() >= self.next_read
+        {
+            self.check_clock()?;
+        }
+        Ok(())
+    }
+
     /// Reads the CPU clock and stops if the cutoff is spent.
     fn check_clock(&mut self) -> Result<(), Stop> {
-        self.rows_since_clock = 0;
-        self.calls_since_clock = 0;
-        if let Some(limit) = self.budget.cpu_seconds
-            && self.cpu.elapsed().as_secs_f64() >= limit
-        {
+        let Some(limit) = self.budget.cpu_seconds else {
+            return Ok(());
+        };
+        self.last_read = Instant::now();
+        let left = limit - self.cpu.elapsed().as_secs_f64();
+        if left <= 0.0 {
             return Err(self.stop(Stop::CpuBudget));
         }
+        self.next_read = (left * CLOCK_SLACK).min(CLOCK_MAX_INTERVAL);
         Ok(())
     }
 
@@ -122,8 +144,15 @@ impl<O: Objective> Problem for Fit<'_, O> {
         self.objective.dim()
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
-        self.meter.charge(Kind::Residual, self.rows).is_ok()
-            && self.objective.residuals(self.work, x, r)
+        if self.meter.charge(Kind::Residual, self.rows).is_err() {
+            // The trial is over and `descend` discards this descent. A failed evaluation would
+            // make the solver shrink its radius and retry, recomputing a step (up to ~20 times,
+            // seconds with many parameters) without asking `should_stop`; zero residuals are
+            // accepted and end the solve at once (absolute function convergence).
+            r.fill(0.0);
+            return true;
+        }
+        self.objective.residuals(self.work, x, r)
     }
     fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool {
         // One Jacobian row per sample, whatever the objective computes alongside (brdf-model
@@ -131,6 +160,19 @@ impl<O: Objective> Problem for Fit<'_, O> {
         self.meter.charge(Kind::Jacobian, self.rows).is_ok()
             && self.objective.jacobian(self.work, x, jac)
     }
+    /// Asked by the solver once per iteration: polls the clock like every charge.
+    fn should_stop(&mut self) -> bool {
+        self.meter.poll_clock().is_err()
+    }
+}
+
+/// What the context knows of the full-data RMSE of its last candidate.
+#[derive(Clone, Copy, Debug)]
+enum Known {
+    /// The RMSE itself.
+    Exact(f64),
+    /// Only that it is above this value (an evaluation cut short).
+    Above(f64),
 }
 
 /// Names of the descent-outcome counters, by N2FB code.
@@ -144,6 +186,7 @@ fn descent_counter(code: u8) -> &'static str {
         8 => "descent_false_convergence",
         9 => "descent_evaluation_limit",
         10 => "descent_iteration_limit",
+        11 => "descent_interrupted",
         _ => "descent_start_not_evaluable",
     }
 }
@@ -163,9 +206,11 @@ pub struct TrialContext<'a, O: Objective> {
     best_rmse: f64,
     trace: Vec<TracePoint>,
     counters: Vec<(&'static str, u64)>,
-    /// The last candidate whose full-data RMSE is known, and that RMSE.
+    /// The last candidate whose full-data RMSE was charged, and what is known of it.
     known_x: Vec<f64>,
-    known_rmse: Option<f64>,
+    known_rmse: Option<Known>,
+    /// Whether [`Search::evaluate_below`] may stop summing early.
+    early_exit: bool,
     /// Residuals of [`Search::evaluate_subsample`] (grown once, then reused).
     subsample_residuals: Vec<f64>,
 }
@@ -190,8 +235,16 @@ impl<'a, O: Objective> TrialContext<'a, O> {
             counters: Vec::with_capacity(16),
             known_x: vec![f64::NAN; dim],
             known_rmse: None,
+            early_exit: true,
             subsample_residuals: Vec::new(),
         }
+    }
+
+    /// Lets [`Search::evaluate_below`] stop summing squares once the bound is passed (the
+    /// default), or not. The trial's decisions, the paper's counts and the trace are the same
+    /// either way; only `EvalCounts::rmse_rows_computed` and the CPU time differ.
+    pub fn set_early_exit(&mut self, enabled: bool) {
+        self.early_exit = enabled;
     }
 
     /// The evaluations counted so far.
@@ -243,9 +296,17 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         Ok(rmse)
     }
 
-    fn remember(&mut self, x: &[f64], rmse: f64) {
+    fn remember(&mut self, x: &[f64], known: Known) {
         self.known_x.copy_from_slice(x);
-        self.known_rmse = Some(rmse);
+        self.known_rmse = Some(known);
+    }
+
+    /// The full-data RMSE of `x`, computed in full (its paper count already charged).
+    fn full_rmse(&mut self, x: &[f64]) -> f64 {
+        let rmse = self.objective.rmse(&mut self.work, x);
+        self.meter.counts.rmse_rows_computed += self.objective.sample_count() as u64;
+        self.remember(x, Known::Exact(rmse));
+        rmse
     }
 
     fn is_known(&self, x: &[f64]) -> bool {
@@ -290,6 +351,7 @@ impl<O: Objective> Search for TrialContext<'_, O> {
             return Err(stop);
         }
         self.meter.charge(Kind::Rmse, k)?;
+        self.meter.counts.rmse_rows_computed += k as u64;
         let m = self
             .objective
             .select(&mut self.work, Rows::Subsample(k), &mut self.rng);
@@ -315,19 +377,61 @@ impl<O: Objective> Search for TrialContext<'_, O> {
             return Err(stop);
         }
         let rmse = match self.known_rmse {
-            Some(rmse) if self.is_known(x) => {
+            Some(Known::Exact(rmse)) if self.is_known(x) => {
                 self.count("rmse_reused");
                 rmse
+            }
+            Some(Known::Above(_)) if self.is_known(x) => {
+                // Charged (in the paper's count) when it was cut short: complete it.
+                self.count("rmse_reused");
+                self.full_rmse(x)
             }
             _ => {
                 self.meter
                     .charge(Kind::Rmse, self.objective.sample_count())?;
-                let rmse = self.objective.rmse(&mut self.work, x);
-                self.remember(x, rmse);
-                rmse
+                self.full_rmse(x)
             }
         };
         self.record(x, rmse)
+    }
+
+    fn evaluate_below(&mut self, x: &[f64], bound: f64) -> Result<Option<f64>, Stop> {
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        // The exact value is needed whenever it would improve the incumbent (trace, target).
+        let cut = bound.max(self.best_rmse);
+        if !self.early_exit || cut == f64::INFINITY || cut.is_nan() {
+            return self.evaluate(x).map(Some);
+        }
+        match self.known_rmse {
+            Some(Known::Exact(rmse)) if self.is_known(x) => {
+                self.count("rmse_reused");
+                return self.record(x, rmse).map(Some);
+            }
+            Some(Known::Above(above)) if self.is_known(x) => {
+                self.count("rmse_reused");
+                if above >= cut {
+                    return Ok(None);
+                }
+            }
+            _ => {
+                self.meter
+                    .charge(Kind::Rmse, self.objective.sample_count())?;
+            }
+        }
+        let (rmse, rows) = self.objective.rmse_below(&mut self.work, x, cut);
+        self.meter.counts.rmse_rows_computed += rows as u64;
+        match rmse {
+            Some(rmse) => {
+                self.remember(x, Known::Exact(rmse));
+                self.record(x, rmse).map(Some)
+            }
+            None => {
+                self.remember(x, Known::Above(cut));
+                Ok(None)
+            }
+        }
     }
 
     fn descend(
@@ -361,7 +465,7 @@ impl<O: Objective> Search for TrialContext<'_, O> {
                 if rows == Rows::Full && report.f.is_finite() {
                     // The solver's final f is 0.5 * sum r^2 over the full data at x: the
                     // full-data RMSE comes for free.
-                    self.remember(x, (2.0 * report.f / n as f64).sqrt());
+                    self.remember(x, Known::Exact((2.0 * report.f / n as f64).sqrt()));
                 }
                 Descent {
                     end: DescentEnd::Solver(report.outcome),
@@ -492,6 +596,81 @@ mod tests {
         // One clock-check interval is a few thousand rows: well under a millisecond even at
         // opt-level 1; allow 5 ms for a loaded machine.
         assert!((0.0..0.005).contains(&overshoot), "overshoot {overshoot} s");
+    }
+
+    /// The toy with every evaluation burning about `ms` of CPU: many expensive calls between
+    /// clock reads (the old check read the clock every 64 calls, here 64 x 3 ms = 0.19 s).
+    struct SlowToy {
+        toy: Toy,
+        ms: f64,
+    }
+
+    impl SlowToy {
+        fn burn(&self) {
+            let t = ThreadTime::now();
+            while t.elapsed().as_secs_f64() < self.ms * 1e-3 {
+                std::hint::spin_loop();
+            }
+        }
+    }
+
+    impl Objective for SlowToy {
+        type Workspace = <Toy as Objective>::Workspace;
+        fn workspace(&self) -> Self::Workspace {
+            self.toy.workspace()
+        }
+        fn dim(&self) -> usize {
+            self.toy.dim()
+        }
+        fn lower(&self) -> &[f64] {
+            self.toy.lower()
+        }
+        fn upper(&self) -> &[f64] {
+            self.toy.upper()
+        }
+        fn sample_count(&self) -> usize {
+            self.toy.sample_count()
+        }
+        fn rmse(&self, ws: &mut Self::Workspace, x: &[f64]) -> f64 {
+            self.burn();
+            self.toy.rmse(ws, x)
+        }
+        fn select(&self, ws: &mut Self::Workspace, rows: Rows, rng: &mut SearchRng) -> usize {
+            self.toy.select(ws, rows, rng)
+        }
+        fn residuals(&self, ws: &mut Self::Workspace, x: &[f64], r: &mut [f64]) -> bool {
+            self.burn();
+            self.toy.residuals(ws, x, r)
+        }
+        fn jacobian(&self, ws: &mut Self::Workspace, x: &[f64], jac: &mut [f64]) -> bool {
+            self.burn();
+            self.toy.jacobian(ws, x, jac)
+        }
+    }
+
+    #[test]
+    fn cpu_budget_holds_when_every_call_is_expensive() {
+        let slow = SlowToy {
+            toy: Toy::new(30, 0.05, 4),
+            ms: 3.0,
+        };
+        let cutoff = 0.05;
+        let budget = Budget {
+            cpu_seconds: Some(cutoff),
+            sample_evaluations: None,
+        };
+        for name in ["rpls", "aed", "ds"] {
+            let config = AlgorithmConfig::default_for(name).unwrap();
+            let r = run_trial(&slow, &config, 3, budget, 0.0);
+            assert_eq!(r.stop, StopReason::CpuBudget);
+            let overshoot = r.ended_at.cpu_seconds - cutoff;
+            // At most the call in progress at the cutoff (3 ms) plus the solver's own work;
+            // 15 ms leaves room for a loaded machine.
+            assert!(
+                (0.0..0.015).contains(&overshoot),
+                "{name}: overshoot {overshoot} s"
+            );
+        }
     }
 
     #[test]

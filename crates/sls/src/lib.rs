@@ -41,17 +41,19 @@ mod context;
 mod objective;
 mod search;
 pub mod trial;
+mod validate;
 
 pub use algorithms::{
     AedConfig, AersConfig, AsaConfig, AvgConfig, DsConfig, Perturbation, RplsConfig, SaConfig,
     SalsConfig,
 };
 pub use brdf::{BrdfObjective, BrdfWorkspace};
-pub use config::{AlgorithmConfig, ConfigError};
+pub use config::AlgorithmConfig;
 pub use context::{TrialContext, run_trial};
 pub use objective::{Objective, Rows};
 pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
+pub use validate::ConfigError;
 
 /// The random number generator of a trial, seeded with `SeedableRng::seed_from_u64(seed)`.
 pub type SearchRng = rand_pcg::Pcg64Mcg;

@@ -71,7 +71,7 @@ pub trait Objective: Sync {
     /// Uniform in optimiser coordinates is the default on purpose: when an exponent is held as
     /// `u = ln(1 + n)` this draws `u` uniformly, i.e. `n` log-uniformly-ish, instead of `n`
     /// uniformly in `[0, 10000]`, which makes about half of all picks unevaluable (`d^n`
-    /// overflows; see baselines.md).
+    /// overflows when `d > 1`).
     fn random_pick(&self, rng: &mut SearchRng, x: &mut [f64]) {
         for ((xi, &lo), &hi) in x.iter_mut().zip(self.lower()).zip(self.upper()) {
             *xi = if hi > lo {
@@ -85,6 +85,15 @@ pub trait Objective: Sync {
     /// RMSE of `x` over the full data set; `+inf` when it cannot be evaluated (overflow,
     /// non-finite values).
     fn rmse(&self, ws: &mut Self::Workspace, x: &[f64]) -> f64;
+
+    /// [`Objective::rmse`] for a caller that only needs it when it is at most `bound`:
+    /// returns `(Some(rmse), rows)` with the exact RMSE (equal bit for bit to
+    /// [`Objective::rmse`]), or `(None, rows)` only when the RMSE is certainly above `bound`;
+    /// `rows` is how many samples were actually evaluated. The default evaluates everything.
+    fn rmse_below(&self, ws: &mut Self::Workspace, x: &[f64], bound: f64) -> (Option<f64>, usize) {
+        let _ = bound;
+        (Some(self.rmse(ws, x)), self.sample_count())
+    }
 
     /// Selects the rows later [`Objective::residuals`] and [`Objective::jacobian`] calls cover
     /// (drawing a subsample with `rng` if asked) and returns how many were selected.

@@ -105,6 +105,17 @@ pub trait Search {
     /// the last candidate evaluated (or descended to on the full data set). Fails with
     /// [`Stop::Target`] when the RMSE reaches the target, or with a budget stop.
     fn evaluate(&mut self, x: &[f64]) -> Result<f64, Stop>;
+    /// [`Search::evaluate`] for a caller that only needs the RMSE when it is below `bound`:
+    /// `Some(rmse)` is the exact full-data RMSE (possibly above `bound`), `None` means it is
+    /// above `bound` (and above the best so far, so the best candidate and the trace did not
+    /// change). The paper's evaluation count, the best candidate, the trace and the target test
+    /// are exactly those of [`Search::evaluate`]; the context may stop summing squares early
+    /// (counted in `EvalCounts::rmse_rows_computed`). Pass `f64::NEG_INFINITY` when only the
+    /// incumbent and the target matter.
+    fn evaluate_below(&mut self, x: &[f64], bound: f64) -> Result<Option<f64>, Stop> {
+        let _ = bound;
+        self.evaluate(x).map(Some)
+    }
     /// Bounded least-squares descent (the paper's N2FB) from `x` over `rows`, drawing a fresh
     /// subsample if asked; `x` receives the solution (unchanged when the start is unevaluable).
     /// Fails with a budget stop, which may interrupt the descent.

@@ -24,14 +24,26 @@ pub struct EvalCounts {
     pub residual_rows: u64,
     /// Jacobian rows computed (analytic or finite-difference), counted apart from residuals.
     pub jacobian_rows: u64,
-    /// Rows computed for full-data RMSE evaluations of candidates.
+    /// Rows of RMSE evaluations of candidates (full data, or SA's subsamples), the paper's
+    /// count: a full-data RMSE counts every sample even when it was cut short (see
+    /// [`EvalCounts::rmse_rows_computed`]). Budgets and the run lengths of figures use it.
     pub rmse_rows: u64,
+    /// Rows of RMSE evaluations actually computed: fewer than [`EvalCounts::rmse_rows`] when a
+    /// full-data RMSE only had to be compared with a bound (the target, the incumbent's RMSE)
+    /// and the partial sum of squares passed it early. 0 in results written before it existed.
+    #[serde(default)]
+    pub rmse_rows_computed: u64,
 }
 
 impl EvalCounts {
-    /// All sample-evaluations: residual + Jacobian + full-data RMSE rows.
+    /// All sample-evaluations in the paper's count: residual + Jacobian + RMSE rows.
     pub fn total(&self) -> u64 {
         self.residual_rows + self.jacobian_rows + self.rmse_rows
+    }
+
+    /// Sample-evaluations actually computed: residual + Jacobian + computed RMSE rows.
+    pub fn total_computed(&self) -> u64 {
+        self.residual_rows + self.jacobian_rows + self.rmse_rows_computed
     }
 }
 

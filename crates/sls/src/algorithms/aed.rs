@@ -39,9 +39,9 @@
 //! reached the target in 200 of 200 trials (2 CPU-second cutoff); the option stays for
 //! instances where descents still creep (degenerate lobes).
 
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::objective::Rows;
 use crate::search::{DescentLimits, Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
 
 /// Default per-call iteration limit of the descent (K). Of 3, 5, 10 and 20, K = 10 needed the
@@ -143,7 +143,14 @@ impl AdaptiveEvaluation {
             let mut stall = Stall::default();
             let mut accepted = true; // the restart loop's candidate counts as accepted
             loop {
-                let rmse = search.evaluate(&s)?; // while RMSE(full data, s) > e (Err on target)
+                // while RMSE(full data, s) > e (Err on target). The exact RMSE is only needed
+                // when it could be progress for the stall test.
+                let bound = if accepted && self.stall_limit > 0 {
+                    stall.bound()
+                } else {
+                    f64::NEG_INFINITY
+                };
+                let rmse = search.evaluate_below(&s, bound)?;
                 if accepted && stall.stalled(rmse, self.stall_limit) {
                     search.count("stall_restarts");
                     continue 'restart;
@@ -154,7 +161,8 @@ impl AdaptiveEvaluation {
                 if accepted {
                     s.copy_from_slice(&s_hat);
                     if Rows::sized(rho, n) == Rows::Full {
-                        search.evaluate(&s)?; // look at the accepted candidate before leaving
+                        // Look at the accepted candidate before leaving.
+                        search.evaluate_below(&s, f64::NEG_INFINITY)?;
                         continue 'restart;
                     }
                     rho = (rho * self.phi).min(full);
@@ -195,16 +203,25 @@ struct Stall {
 }
 
 impl Stall {
+    /// RMSEs at or above this are no progress (`+inf` before the first reference).
+    fn bound(&self) -> f64 {
+        self.reference
+            .map_or(f64::INFINITY, |r| r * (1.0 - STALL_TOLERANCE))
+    }
+
     /// Records the RMSE of a newly accepted candidate; true once `limit` (> 0) accepted
     /// candidates in a row have not improved on the reference by a relative
     /// [`STALL_TOLERANCE`].
-    fn stalled(&mut self, rmse: f64, limit: usize) -> bool {
-        let progress = match self.reference {
-            Some(r) => rmse < r * (1.0 - STALL_TOLERANCE),
-            None => true,
+    ///
+    /// `rmse` is `None` when only known to be above [`Stall::bound`] (no progress).
+    fn stalled(&mut self, rmse: Option<f64>, limit: usize) -> bool {
+        let progress = match (self.reference, rmse) {
+            (Some(r), Some(rmse)) => rmse < r * (1.0 - STALL_TOLERANCE),
+            (Some(_), None) => false,
+            (None, rmse) => rmse.is_some(),
         };
         if progress {
-            self.reference = Some(rmse);
+            self.reference = rmse;
             self.steps = 0;
         } else {
             self.steps += 1;

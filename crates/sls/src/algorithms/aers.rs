@@ -7,8 +7,8 @@
 //! iteration limit.
 
 use super::aed::{AdaptiveEvaluation, DEFAULT_DESCENT_ITERATIONS, DEFAULT_STALL_LIMIT, OnFailure};
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::search::{DescentLimits, Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
 
 /// AERS's parameters (defaults from section 3.1.2: `phi = 1.0`, `rho0 = 25`).

@@ -63,8 +63,8 @@
 //! - Not implemented (off by default in ASA): quenching, `Sequential_Parameters`, integer
 //!   parameters, `ASA_SAMPLE`, `ASA_QUEUE`, multiple-minima reports, user-defined functions.
 
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::search::{Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 

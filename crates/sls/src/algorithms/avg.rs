@@ -25,8 +25,8 @@
 
 use crate::algorithms::sa::{Annealer, SaConfig};
 use crate::algorithms::sals::descent_rows;
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::search::{DescentLimits, Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
 
 /// AVG's parameters.

@@ -25,8 +25,8 @@
 //!   Recipes' NMAX), also restarts from a new random pick.
 //! - Every vertex evaluation is a full-data RMSE (counted as RMSE rows).
 
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::search::{Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 

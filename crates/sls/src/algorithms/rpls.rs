@@ -10,9 +10,9 @@
 //! The full-data RMSE after the descent costs nothing: the descent's final f is over the full
 //! data set (see [`crate::Search::evaluate`]).
 
-use crate::config::{ConfigError, check_count};
 use crate::objective::Rows;
 use crate::search::{DescentEnd, DescentLimits, Search, Stop};
+use crate::validate::{ConfigError, check_count};
 use serde::{Deserialize, Serialize};
 
 /// RPLS's parameters: the descent's limits (PORT's defaults).
@@ -55,7 +55,7 @@ pub fn run<S: Search>(config: &RplsConfig, search: &mut S) -> Result<(), Stop> {
         let descent = search.descend(&mut s, Rows::Full, limits)?;
         // An unevaluable pick is known to be +inf on the full data already.
         if descent.end != DescentEnd::StartNotEvaluable {
-            search.evaluate(&s)?;
+            search.evaluate_below(&s, f64::NEG_INFINITY)?;
         }
     }
 }

@@ -40,8 +40,8 @@
 //! same `T` is a relative change of `n`. Measured against each other in
 //! results/sls-anneal-bench.md.
 
-use crate::config::{ConfigError, check_at_least, check_count};
 use crate::search::{Search, Stop};
+use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};

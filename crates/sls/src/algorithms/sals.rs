@@ -23,9 +23,9 @@
 //!   the SA starts from it.
 
 use crate::algorithms::sa::{Annealer, SaConfig};
-use crate::config::{ConfigError, check_count};
 use crate::objective::Rows;
 use crate::search::{DescentLimits, Search, Stop};
+use crate::validate::{ConfigError, check_count};
 use serde::{Deserialize, Serialize};
 
 /// Relative improvement of the best RMSE since the last random pick that resets the
