@@ -30,8 +30,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::plot::{PlotError, register_fonts};
-use crate::spec::PlotFormat;
+use crate::ImageFormat as PlotFormat;
+use crate::chart::{PlotError, register_fonts};
 
 /// Which samples count as lying in the plane of incidence at a given incident angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -459,7 +459,7 @@ pub fn draw_polar(
                     draw_figure(&root, plot, &panels, cols as usize).map_err(draw_err)?;
                     root.present().map_err(|e| draw_err(e.to_string()))?;
                 }
-                crate::store::write_atomic(&path, text.as_bytes()).map_err(|source| {
+                crate::files::write_atomic(&path, text.as_bytes()).map_err(|source| {
                     PlotError::Io {
                         path: path.clone(),
                         source,
@@ -611,7 +611,7 @@ fn draw_panel<DB: DrawingBackend>(
             .map_err(e)?;
         chart
             .draw_series(std::iter::once(Text::new(
-                crate::plot::tick(rad),
+                crate::chart::tick(rad),
                 (rad, -0.02 * r),
                 ("sans-serif", 12)
                     .into_font()
@@ -741,7 +741,7 @@ fn draw_panel<DB: DrawingBackend>(
             };
             chart
                 .draw_series(std::iter::once(Text::new(
-                    crate::plot::tick(s.value),
+                    crate::chart::tick(s.value),
                     (x, y),
                     ("sans-serif", 12)
                         .into_font()

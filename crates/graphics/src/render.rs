@@ -40,7 +40,8 @@ pub enum RenderError {
 }
 
 /// How exposed linear radiance is mapped to display values in `[0, 1]`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum ToneMap {
     /// `x / (1 + x)`: never saturates, compresses highlights.
     Reinhard,

@@ -5,13 +5,13 @@
 
 use std::path::{Path, PathBuf};
 
-use brdf_model::{Filters, named_params, read_cornell};
-use harness::polar::{
+use brdf_graphics::ImageFormat as PlotFormat;
+use brdf_graphics::polar::{
     PolarCurve, PolarMeasured, PolarPlot, SliceSelection, draw_polar, incident_angles,
     polar_panels, select_in_plane,
 };
-use harness::render::{RenderOptions, render_png, tone_map};
-use harness::spec::PlotFormat;
+use brdf_graphics::render::{RenderOptions, render_png, tone_map};
+use brdf_model::{Filters, named_params, read_cornell};
 use plotters::style::RGBColor;
 
 fn out_dir(tmp: &tempfile::TempDir) -> PathBuf {

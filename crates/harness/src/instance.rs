@@ -26,6 +26,17 @@ pub enum InstanceError {
         /// The layout error.
         source: ModelError,
     },
+    /// The requested evaluation kernel cannot run here.
+    #[error(transparent)]
+    Kernel(#[from] brdf_model::KernelError),
+    /// Generating a synthetic instance failed (parameters, size or overflow).
+    #[error("instance `{instance}`: {source}")]
+    Synthetic {
+        /// Instance name.
+        instance: String,
+        /// The generator's error.
+        source: brdf_model::ParamError,
+    },
     /// The data set is empty after filtering.
     #[error("instance `{instance}`: no samples left ({report})")]
     Empty {
@@ -82,7 +93,16 @@ pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
             sigma,
             seed,
             ..
-        } => (brdf_model::synthetic(params, *samples, *sigma, *seed), None),
+        } => {
+            let d =
+                brdf_model::try_synthetic(params, *samples, *sigma, *seed).map_err(|source| {
+                    InstanceError::Synthetic {
+                        instance: spec.name.clone(),
+                        source,
+                    }
+                })?;
+            (d, None)
+        }
         Source::File { spec: fs, resolved } => {
             let (d, r) = load_file(fs, resolved).map_err(|source| InstanceError::Data {
                 instance: spec.name.clone(),

@@ -1,29 +1,43 @@
 //! The brdf-sls experiment harness: TOML experiment specs, parallel seeded trials, a
 //! crash-safe results store, run-time distribution statistics and plots.
 //!
-//! - [`spec`]: the experiment format (documented there), sweep expansion, the trial plan.
-//! - [`seed`]: stable per-trial seeds and spec fingerprints.
-//! - [`store`]: `trials.jsonl` (append per line, resume, torn-line recovery, refusal of a
-//!   different spec) and atomic writes of derived files.
+//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`) is a thin layer over this library.
+//!
+//! - [`spec`]: the experiment format (documented there) read in stages: raw TOML, validation
+//!   with stated [`spec::limits`], sweep expansion, the trial plan and fingerprint, the
+//!   printed description.
+//! - [`seed`]: stable per-trial seeds, spec fingerprints and data hashes.
+//! - [`store`]: the results file `trials.jsonl`, with an advisory lock per folder, appends
+//!   per line, resume, torn-line recovery, packed `.gz` read transparently, refusal of a
+//!   different spec or different data; and atomic writes of derived files.
 //! - [`run`]: the parallel runner (rayon), data sets built once and shared.
-//! - [`stats`]: success rates, quantiles, ERT with bootstrap, Mann-Whitney, KS, Holm, KM.
-//! - [`plot`]: RTD, sweep, trace, scatter, error-time and COCO-style ECDF plots (PNG + SVG).
+//! - [`stats`]: run-time distributions (Kaplan-Meier), quantiles, ERT with bootstrap, pairwise
+//!   tests (Mann-Whitney, KS, log-rank) with Holm's correction, tables.
+//! - [`figures`]: RTD, sweep, trace, scatter, error-time and COCO-style ECDF charts built from
+//!   the statistics (drawn by `brdf_graphics`).
 //! - [`report`]: statistics and plots for a finished (or partial) results directory.
 //! - [`progress`]: progress bars or plain progress lines.
 //! - [`machine`]: CPU model and thread count recorded with results.
+//! - [`tune`]: automatic tuning with irace (scenario files, target runner, elites).
 //! - [`instance`]: building an experiment's data sets and layouts.
-//! - [`render`]: the small CPU renderer of a lit flat surface (`brdf-sls render`, Figures 8, 12).
-//! - [`polar`]: polar plots in the plane of incidence (`brdf-sls polar`, Figure 18).
+//! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
+//! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 
+/// Where `run` writes when no `--out` is given: `runs/<spec file stem>/`. The repository's
+/// committed reference results live apart, in `results/`, so a user's first run never collides
+/// with them.
+pub const DEFAULT_RUNS_DIR: &str = "runs";
+
+pub mod figures;
 pub mod instance;
 pub mod machine;
-pub mod plot;
-pub mod polar;
+pub mod merge;
 pub mod progress;
-pub mod render;
 pub mod report;
 pub mod run;
 pub mod seed;
+pub mod shard;
 pub mod spec;
 pub mod stats;
 pub mod store;
+pub mod tune;

@@ -3,14 +3,14 @@
 //! Bars are used when stderr is a terminal and `CI` is not `true`; otherwise one plain line is
 //! printed to stderr at most every 10 seconds (and at the end), so logs stay short.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// How progress is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ProgressMode {
     /// Bars on a terminal, plain lines otherwise (see the module docs).
     Auto,
@@ -156,7 +156,8 @@ impl Progress {
                     || s.total_done == self.total =>
             {
                 s.last_line = Instant::now();
-                eprintln!("{}", self.line(&s));
+                // A closed stderr must not stop the run: progress is only a courtesy.
+                let _ = writeln!(std::io::stderr().lock(), "{}", self.line(&s));
             }
             _ => {}
         }

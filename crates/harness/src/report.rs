@@ -13,7 +13,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::plot::{self, PlotError, slug};
+use brdf_graphics::PlotError;
+use brdf_graphics::chart::{self as plot, slug};
+
+use crate::figures;
 use crate::spec::{PlotKind, Source, Spec};
 use crate::stats::{self, Group, Measure, StatsReport};
 use crate::store::{Session, TrialRecord, write_atomic};
@@ -32,6 +35,21 @@ pub enum ReportError {
     /// A plot failed.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// A derived file could not be serialised.
+    #[error("{path}: cannot serialise: {message}")]
+    Serialize {
+        /// The file.
+        path: PathBuf,
+        /// serde_json's message.
+        message: String,
+    },
+}
+
+fn to_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<String, ReportError> {
+    serde_json::to_string_pretty(value).map_err(|e| ReportError::Serialize {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
 }
 
 /// What [`write_report`] produced.
@@ -84,8 +102,9 @@ pub fn write_report(
     let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
     let table = stats::table(&report);
     let mut files = Vec::new();
-    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
-    write(&out.join("stats.json"), json.as_bytes(), &mut files)?;
+    let stats_path = out.join("stats.json");
+    let json = to_json(&stats_path, &report)?;
+    write(&stats_path, json.as_bytes(), &mut files)?;
     write(
         &out.join("stats.csv"),
         stats::configs_csv(&report).as_bytes(),
@@ -119,13 +138,9 @@ pub fn write_report(
         "instances": spec.instance_names(),
         "files": files.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
     });
-    write(
-        &out.join("summary.json"),
-        serde_json::to_string_pretty(&summary)
-            .unwrap_or_default()
-            .as_bytes(),
-        &mut files,
-    )?;
+    let summary_path = out.join("summary.json");
+    let summary = to_json(&summary_path, &summary)?;
+    write(&summary_path, summary.as_bytes(), &mut files)?;
     Ok(Report {
         stats: report,
         table,
@@ -168,7 +183,7 @@ pub fn draw_plots(
         let base = |kind: &str| dir.join(format!("{}-{kind}", slug(&inst.name)));
         for &t in &inst.targets {
             if wants(PlotKind::Rtd) {
-                let c = plot::rtd_chart(
+                let c = figures::rtd_chart(
                     &inst.name,
                     &gs,
                     t,
@@ -178,7 +193,7 @@ pub fn draw_plots(
                 files.extend(plot::draw(&c, &base(&format!("rtd-cpu-q{t}")), formats)?);
             }
             if wants(PlotKind::RtdEvaluations) {
-                let c = plot::rtd_chart(
+                let c = figures::rtd_chart(
                     &inst.name,
                     &gs,
                     t,
@@ -193,22 +208,22 @@ pub fn draw_plots(
             files.extend(sweep_plots(spec, &inst.name, &gs, t0, dir)?);
         }
         if wants(PlotKind::Trace) {
-            let c = plot::trace_chart(&inst.name, &gs, spec.plots.trace_trials, &inst.targets);
+            let c = figures::trace_chart(&inst.name, &gs, spec.plots.trace_trials, &inst.targets);
             files.extend(plot::draw(&c, &base("trace"), formats)?);
         }
         if wants(PlotKind::Scatter) {
-            let c = plot::scatter_chart(&inst.name, &gs, t0);
+            let c = figures::scatter_chart(&inst.name, &gs, t0);
             files.extend(plot::draw(&c, &base("scatter"), formats)?);
         }
         if wants(PlotKind::ErrorTime) || wants(PlotKind::Ecdf) {
             let (lo, hi) = error_range(spec, &gs, t0);
-            let grid = plot::target_grid(lo, hi, spec.plots.error_steps);
+            let grid = figures::target_grid(lo, hi, spec.plots.error_steps);
             if wants(PlotKind::ErrorTime) {
-                let c = plot::error_time_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
+                let c = figures::error_time_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
                 files.extend(plot::draw(&c, &base("error-time"), formats)?);
             }
             if wants(PlotKind::Ecdf) {
-                let c = plot::ecdf_targets_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
+                let c = figures::ecdf_targets_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
                 files.extend(plot::draw(&c, &base("ecdf-targets"), formats)?);
             }
         }
@@ -269,7 +284,7 @@ fn sweep_plots(
             });
         let x_log = mn > 0.0 && mx / mn >= 10.0;
         let title = format!("{algo}: ERT and median vs {param} - {instance}, target RMSE {target}");
-        let c = plot::sweep_chart(&title, &param, Measure::CpuSeconds, &rows, x_log);
+        let c = figures::sweep_chart(&title, &param, Measure::CpuSeconds, &rows, x_log);
         let base = dir.join(format!(
             "{}-sweep-{}-{}",
             slug(instance),

@@ -5,17 +5,19 @@
 //! configuration, trial index), so every trial's result is the same for any thread count;
 //! records are returned in plan order regardless of finishing order.
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
+use brdf_model::Kernel;
 use rayon::prelude::*;
 use sls::{AlgorithmConfig, BrdfObjective, Budget, TrialResult};
 
 use crate::instance::{BuiltInstance, InstanceError};
 use crate::machine::{MachineInfo, unix_now};
 use crate::progress::{Progress, ProgressMode};
+use crate::shard::Shard;
 use crate::spec::{PlannedTrial, Spec};
 use crate::store::{FORMAT_VERSION, Header, ResultStore, StoreError, TrialRecord};
 
@@ -24,17 +26,35 @@ use crate::store::{FORMAT_VERSION, Header, ResultStore, StoreError, TrialRecord}
 pub trait Executor: Sync {
     /// Runs `trial` to `target` within `budget`.
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult;
+
+    /// What the results must record to be reproducible: the evaluation kernel and the hash of
+    /// each instance's data. Empty for test executors.
+    fn provenance(&self) -> Provenance {
+        Provenance::default()
+    }
+}
+
+/// The evaluation kernel and data hashes a run records with its results.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Provenance {
+    /// The concrete kernel (`avx2`, `portable`, ...), empty when not applicable.
+    pub kernel: String,
+    /// Instance name -> [`crate::seed::data_hash`] of its data.
+    pub data_hashes: BTreeMap<String, String>,
 }
 
 /// The real executor: sls algorithms on brdf-model objectives built once per instance.
 pub struct SlsExecutor {
     objectives: Vec<BrdfObjective>,
     configs: Vec<AlgorithmConfig>,
+    provenance: Provenance,
 }
 
 impl SlsExecutor {
-    /// Builds every instance's data set once (shared read-only by all trials).
-    pub fn new(spec: &Spec) -> Result<(Self, Vec<BuiltInstance>), InstanceError> {
+    /// Builds every instance's data set once (shared read-only by all trials), evaluated with
+    /// `kernel` (resolved here; an unavailable kernel is an error).
+    pub fn new(spec: &Spec, kernel: Kernel) -> Result<(Self, Vec<BuiltInstance>), InstanceError> {
+        let kernel = kernel.resolve()?;
         let built: Vec<BuiltInstance> = spec
             .instances
             .iter()
@@ -42,8 +62,17 @@ impl SlsExecutor {
             .collect::<Result<_, _>>()?;
         let objectives = built
             .iter()
-            .map(|b| BrdfObjective::new(b.data.clone(), b.layout.clone()))
-            .collect();
+            .map(|b| BrdfObjective::with_kernel(b.data.clone(), b.layout.clone(), kernel))
+            .collect::<Result<_, _>>()?;
+        let provenance = Provenance {
+            kernel: kernel.to_string(),
+            data_hashes: spec
+                .instances
+                .iter()
+                .zip(&built)
+                .map(|(i, b)| (i.name.clone(), crate::seed::data_hash(&b.data)))
+                .collect(),
+        };
         Ok((
             SlsExecutor {
                 objectives,
@@ -52,6 +81,7 @@ impl SlsExecutor {
                     .iter()
                     .map(|c| c.algorithm.clone())
                     .collect(),
+                provenance,
             },
             built,
         ))
@@ -59,6 +89,10 @@ impl SlsExecutor {
 }
 
 impl Executor for SlsExecutor {
+    fn provenance(&self) -> Provenance {
+        self.provenance.clone()
+    }
+
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
         sls::run_trial(
             &self.objectives[trial.instance],
@@ -119,6 +153,18 @@ pub enum RunError {
         /// The panic message.
         message: String,
     },
+    /// The folder holds results of another shard (or of the whole plan) of the same spec.
+    #[error(
+        "{dir} holds {found} of this spec, not {requested}; write elsewhere with --out DIR, or start over with --fresh"
+    )]
+    ShardMismatch {
+        /// The results folder.
+        dir: std::path::PathBuf,
+        /// What the folder holds (`shard K/N` or `the whole plan`).
+        found: String,
+        /// What was asked for.
+        requested: String,
+    },
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Pool {
@@ -148,8 +194,8 @@ pub struct RunOutcome {
     pub machine: MachineInfo,
 }
 
-/// The results header for `spec` on this machine.
-pub fn header_for(spec: &Spec, threads: usize) -> Header {
+/// The results header for `spec` on this machine, with the executor's provenance.
+pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Header {
     Header {
         format: FORMAT_VERSION,
         experiment: spec.name.clone(),
@@ -158,6 +204,10 @@ pub fn header_for(spec: &Spec, threads: usize) -> Header {
         machine: MachineInfo::current(threads),
         spec: spec.canonical(),
         spec_text: spec.text.clone(),
+        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        kernel: provenance.kernel.clone(),
+        data_hashes: provenance.data_hashes.clone(),
+        shard: None,
     }
 }
 
@@ -168,11 +218,44 @@ pub fn run_experiment<E: Executor>(
     options: &RunOptions,
     executor: &E,
 ) -> Result<RunOutcome, RunError> {
+    run_shard(spec, None, out, options, executor)
+}
+
+/// Runs (or resumes) the trials of `spec`'s plan that belong to `shard` (all of them for
+/// `None`) into `out`. Each trial keeps the seed and key it has in the whole plan, so shards
+/// merged by [`crate::merge`] equal a single run. The shard is recorded in the header, and a
+/// folder written for another shard is refused ([`RunError::ShardMismatch`]).
+pub fn run_shard<E: Executor>(
+    spec: &Spec,
+    shard: Option<Shard>,
+    out: &Path,
+    options: &RunOptions,
+    executor: &E,
+) -> Result<RunOutcome, RunError> {
     let threads = options.threads.max(1);
-    let header = header_for(spec, threads);
+    let mut header = header_for(spec, threads, &executor.provenance());
+    header.shard = shard;
+    if !options.fresh
+        && crate::store::results_file(out).exists()
+        && let Ok(existing) = crate::store::read_results(out)
+        && existing.header.fingerprint == header.fingerprint
+        && existing.header.shard != shard
+    {
+        let show = |s: Option<Shard>| {
+            s.map_or_else(|| "the whole plan".to_string(), |s| format!("shard {s}"))
+        };
+        return Err(RunError::ShardMismatch {
+            dir: out.to_path_buf(),
+            found: show(existing.header.shard),
+            requested: show(shard),
+        });
+    }
     let machine = header.machine.clone();
     let opened = ResultStore::open(out, header, options.fresh)?;
-    let plan = spec.trials_plan();
+    let plan = match shard {
+        Some(s) => s.select(spec.trials_plan()),
+        None => spec.trials_plan(),
+    };
     let plan_keys: HashSet<&str> = plan.iter().map(|t| t.key.as_str()).collect();
     let done: HashSet<String> = opened
         .records
@@ -191,7 +274,10 @@ pub fn run_experiment<E: Executor>(
     // Progress per configuration (summed over instances).
     let labels = spec.config_labels();
     let nc = labels.len();
-    let totals = vec![u64::from(spec.trials) * spec.instances.len() as u64; nc];
+    let mut totals = vec![0u64; nc];
+    for t in &plan {
+        totals[t.config] += 1;
+    }
     let mut done_c = vec![0u64; nc];
     let mut ok_c = vec![0u64; nc];
     for r in opened.records.iter().filter(|r| done.contains(&r.key)) {

@@ -95,6 +95,29 @@ pub fn fingerprint(canonical: &str) -> String {
     format!("{:016x}", StableHasher::new().str(canonical).finish())
 }
 
+/// Hash of a data set's contents: every column's f64 bit patterns in order (directions, then
+/// values), so any change of a sample, its order or the sample count changes it. Recorded in
+/// the results header and checked on resume: results are never silently continued on data
+/// that differ from the data they started on.
+pub fn data_hash(data: &brdf_model::DataSet) -> String {
+    let mut h = StableHasher::new();
+    h.u64(data.len() as u64);
+    for col in [
+        data.u_x(),
+        data.u_y(),
+        data.u_z(),
+        data.v_x(),
+        data.v_y(),
+        data.v_z(),
+        data.values(),
+    ] {
+        for v in col {
+            h.u64(v.to_bits());
+        }
+    }
+    format!("{:016x}", h.finish())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

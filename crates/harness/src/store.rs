@@ -3,7 +3,7 @@
 //! Layout of `<out>/trials.jsonl`:
 //!
 //! 1. A header line `{"type":"header", ...}` holding the format version, the experiment name,
-//!    the spec fingerprint (hash of the canonicalised spec, see [`crate::spec::Plan::fingerprint`]),
+//!    the spec fingerprint (hash of the canonicalised spec, see [`crate::spec::Spec::fingerprint`]),
 //!    the canonical spec itself and the machine of the first session.
 //! 2. One `{"type":"session", ...}` line per start (machine, threads, trials already present),
 //!    so resumed runs on other machines stay visible.
@@ -19,7 +19,17 @@
 //!
 //! Derived files (summary, statistics, plots) are written with [`write_atomic`]: a temporary file
 //! in the same directory, fsync, then rename, so a reader never sees half a file.
+//!
+//! One writer at a time: [`ResultStore::open`] takes an advisory lock on `<out>/.lock` (which
+//! holds the writer's PID) for as long as the store lives, so a second run on the same folder
+//! fails at once with [`StoreError::Locked`] naming the holder instead of interleaving lines.
+//! Trial lines are written through a file opened in append mode.
+//!
+//! Packed results: the repository commits results as `trials.jsonl.gz`. [`read_results`] reads
+//! the packed file when the plain one is absent, and [`ResultStore::open`] unpacks it into
+//! `trials.jsonl` (keeping the packed copy) before resuming, so nobody has to unpack by hand.
 
+use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -35,6 +45,15 @@ pub const FORMAT_VERSION: u32 = 1;
 
 /// Name of the results file inside the output directory.
 pub const TRIALS_FILE: &str = "trials.jsonl";
+
+/// Name of the packed (gzip) results file, as committed to the repository.
+pub const PACKED_TRIALS_FILE: &str = "trials.jsonl.gz";
+
+/// Name of the lock file inside the output directory (holds the writer's PID).
+pub const LOCK_FILE: &str = ".lock";
+
+/// Largest results file read back (unpacked), against a corrupt or hostile `.gz`.
+pub const MAX_RESULTS_BYTES: u64 = 8 << 30;
 
 /// Errors of the results store.
 #[derive(Debug, thiserror::Error)]
@@ -78,6 +97,47 @@ pub enum StoreError {
         /// The results file.
         path: PathBuf,
     },
+    /// Another process is writing to the same results folder.
+    #[error(
+        "{dir} is in use by another brdf-sls process{}: wait for it to finish, or write elsewhere with --out DIR",
+        pid.map(|p| format!(" (PID {p})")).unwrap_or_default()
+    )]
+    Locked {
+        /// The results folder.
+        dir: PathBuf,
+        /// The holder's PID, when its lock file could be read.
+        pid: Option<u32>,
+    },
+    /// The data of an instance differ from the data the results were started on.
+    #[error(
+        "{path}: instance `{instance}` has different data now (hash {now}) than when these results \
+         were started ({stored}); the data file or its filters changed. Write elsewhere with --out \
+         DIR, or start over with --fresh (the old file is moved aside, never deleted)."
+    )]
+    DataChanged {
+        /// The results file.
+        path: PathBuf,
+        /// The instance.
+        instance: String,
+        /// Hash stored in the header.
+        stored: String,
+        /// Hash of the data now.
+        now: String,
+    },
+    /// A record could not be serialised (the trial is not lost silently: the run stops).
+    #[error("{path}: cannot serialise a results line: {message}")]
+    Serialize {
+        /// The results file.
+        path: PathBuf,
+        /// serde_json's message.
+        message: String,
+    },
+    /// The packed results are larger than [`MAX_RESULTS_BYTES`] once unpacked.
+    #[error("{path}: unpacks to more than {MAX_RESULTS_BYTES} bytes; refusing to read it")]
+    TooLarge {
+        /// The packed file.
+        path: PathBuf,
+    },
     /// The file has a newer format version.
     #[error(
         "{path}: results format version {found} is not supported (this build reads {FORMAT_VERSION})"
@@ -115,6 +175,20 @@ pub struct Header {
     /// The spec's TOML text as given (lets `plot` and `stats` work from the results alone).
     #[serde(default)]
     pub spec_text: String,
+    /// Version of the program that created the file (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program_version: String,
+    /// The evaluation kernel of the first session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub kernel: String,
+    /// Instance name -> hash of its data ([`crate::seed::data_hash`]); a resume on different
+    /// data is refused. Empty in older files (then nothing is checked).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub data_hashes: BTreeMap<String, String>,
+    /// The shard of the plan this file holds (`brdf-sls run --shard K/N`); `None` for a whole
+    /// plan, a merged folder, and older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<crate::shard::Shard>,
 }
 
 /// One start of a run against a results file.
@@ -126,6 +200,16 @@ pub struct Session {
     pub machine: MachineInfo,
     /// Finished trials already in the file at the start.
     pub trials_present: usize,
+    /// The spec's TOML text of this session (it may raise `trials` over the header's), so that
+    /// `stats` and `plot` on the folder alone use the latest plan. Empty in older files.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub spec_text: String,
+    /// Version of the program that ran this session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program_version: String,
+    /// The evaluation kernel of this session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub kernel: String,
 }
 
 /// One finished trial.
@@ -184,11 +268,13 @@ fn decode_line(text: &str) -> Result<Line, serde_json::Error> {
     Ok(line)
 }
 
-fn encode_line(line: &Line) -> String {
-    // Serialising plain data structs to a String cannot fail.
-    let mut s = serde_json::to_string(line).unwrap_or_default();
+fn encode_line(path: &Path, line: &Line) -> Result<String, StoreError> {
+    let mut s = serde_json::to_string(line).map_err(|e| StoreError::Serialize {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
     s.push('\n');
-    s
+    Ok(s)
 }
 
 /// Contents of a results file as read back.
@@ -206,6 +292,19 @@ pub struct Contents {
     pub torn: Option<Vec<u8>>,
     /// Keys that appeared more than once (later copies ignored).
     pub duplicates: Vec<String>,
+}
+
+impl Contents {
+    /// The spec text of the latest session that recorded one, else the header's: the plan the
+    /// folder was last run with.
+    pub fn current_spec_text(&self) -> &str {
+        self.sessions
+            .iter()
+            .rev()
+            .map(|s| s.spec_text.as_str())
+            .find(|t| !t.is_empty())
+            .unwrap_or(&self.header.spec_text)
+    }
 }
 
 /// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
@@ -296,15 +395,112 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
     })
 }
 
-/// Reads a results file (or `<dir>/trials.jsonl`) without modifying it; a torn tail is ignored.
+/// The results file of a folder: `trials.jsonl`, or the packed `trials.jsonl.gz` when only that
+/// exists.
+pub fn results_file(dir: &Path) -> PathBuf {
+    let plain = dir.join(TRIALS_FILE);
+    let packed = dir.join(PACKED_TRIALS_FILE);
+    if !plain.exists() && packed.exists() {
+        packed
+    } else {
+        plain
+    }
+}
+
+fn is_packed(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "gz")
+}
+
+/// Reads a file, unpacking it when its name ends in `.gz`.
+fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
+    let file = File::open(path).map_err(io_err(path))?;
+    if !is_packed(path) {
+        let mut bytes = Vec::new();
+        let mut reader = std::io::BufReader::new(file);
+        reader.read_to_end(&mut bytes).map_err(io_err(path))?;
+        return Ok(bytes);
+    }
+    let mut bytes = Vec::new();
+    flate2::read::GzDecoder::new(std::io::BufReader::new(file))
+        .take(MAX_RESULTS_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io_err(path))?;
+    if bytes.len() as u64 > MAX_RESULTS_BYTES {
+        return Err(StoreError::TooLarge {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(bytes)
+}
+
+/// Reads a results file, `<dir>/trials.jsonl`, or (when only that exists) the packed
+/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
 pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
     let file = if path.is_dir() {
-        path.join(TRIALS_FILE)
+        results_file(path)
     } else {
         path.to_path_buf()
     };
-    let bytes = std::fs::read(&file).map_err(io_err(&file))?;
+    let bytes = read_maybe_packed(&file)?;
     parse_contents(&file, &bytes)
+}
+
+/// The advisory lock of a results folder, held while a store writes to it (released on drop).
+#[derive(Debug)]
+pub struct DirLock {
+    _file: File,
+}
+
+impl DirLock {
+    /// Takes the lock of `dir` without waiting, or reports who holds it
+    /// ([`StoreError::Locked`]).
+    pub fn acquire(dir: &Path) -> Result<Self, StoreError> {
+        let path = dir.join(LOCK_FILE);
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(io_err(&path))?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(std::fs::TryLockError::WouldBlock) => {
+                let mut text = String::new();
+                let _ = file.read_to_string(&mut text);
+                return Err(StoreError::Locked {
+                    dir: dir.to_path_buf(),
+                    pid: text.trim().parse().ok(),
+                });
+            }
+            Err(std::fs::TryLockError::Error(e)) => return Err(io_err(&path)(e)),
+        }
+        // Holding the lock: record our PID for the message a second process prints.
+        file.set_len(0)
+            .and_then(|_| file.seek(SeekFrom::Start(0)))
+            .and_then(|_| writeln!(file, "{}", std::process::id()))
+            .and_then(|_| file.flush())
+            .map_err(io_err(&path))?;
+        Ok(DirLock { _file: file })
+    }
+}
+
+/// Refuses to resume when an instance's data hash differs from the stored one (files written
+/// before hashes were recorded have none, and are not checked).
+fn check_same_data(path: &Path, stored: &Header, now: &Header) -> Result<(), StoreError> {
+    for (instance, hash) in &stored.data_hashes {
+        if let Some(current) = now.data_hashes.get(instance)
+            && current != hash
+        {
+            return Err(StoreError::DataChanged {
+                path: path.to_path_buf(),
+                instance: instance.clone(),
+                stored: hash.clone(),
+                now: current.clone(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// What [`ResultStore::open`] found.
@@ -318,11 +514,12 @@ pub struct Opened {
     pub notes: Vec<String>,
 }
 
-/// An append-only results file shared by worker threads.
+/// An append-only results file shared by worker threads; holds the folder's lock while alive.
 #[derive(Debug)]
 pub struct ResultStore {
     path: PathBuf,
     file: Mutex<File>,
+    _lock: DirLock,
 }
 
 /// A path `base.<suffix>-<unix time>[-k]` that does not exist yet.
@@ -352,13 +549,27 @@ impl ResultStore {
     /// Writes a session line for this start.
     pub fn open(dir: &Path, header: Header, fresh: bool) -> Result<Opened, StoreError> {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let lock = DirLock::acquire(dir)?;
         let path = dir.join(TRIALS_FILE);
+        let packed = dir.join(PACKED_TRIALS_FILE);
         let mut notes = Vec::new();
         let mut records = Vec::new();
-        if path.exists() && fresh {
-            let aside = aside_path(&path, "old");
-            std::fs::rename(&path, &aside).map_err(io_err(&path))?;
-            notes.push(format!("moved the old results to {}", aside.display()));
+        if fresh {
+            for p in [&path, &packed] {
+                if p.exists() {
+                    let aside = aside_path(p, "old");
+                    std::fs::rename(p, &aside).map_err(io_err(p))?;
+                    notes.push(format!("moved the old results to {}", aside.display()));
+                }
+            }
+        } else if !path.exists() && packed.exists() {
+            let bytes = read_maybe_packed(&packed)?;
+            write_atomic(&path, &bytes).map_err(io_err(&path))?;
+            notes.push(format!(
+                "unpacked {} into {} to resume (the packed copy is kept)",
+                packed.display(),
+                path.display()
+            ));
         }
         let file = if path.exists() {
             let mut file = OpenOptions::new()
@@ -394,6 +605,7 @@ impl ResultStore {
                             expected: header.fingerprint,
                         });
                     }
+                    check_same_data(&path, &c.header, &header)?;
                     if let Some(torn) = &c.torn {
                         let aside = aside_path(&path, "torn");
                         std::fs::write(&aside, torn).map_err(io_err(&aside))?;
@@ -410,9 +622,14 @@ impl ResultStore {
                             c.duplicates.len()
                         ));
                     }
-                    file.seek(SeekFrom::End(0)).map_err(io_err(&path))?;
+                    file.sync_data().map_err(io_err(&path))?;
+                    drop(file);
                     records = c.records;
-                    file
+                    // Append mode: every write lands at the current end of the file.
+                    OpenOptions::new()
+                        .append(true)
+                        .open(&path)
+                        .map_err(io_err(&path))?
                 }
             }
         } else {
@@ -421,11 +638,15 @@ impl ResultStore {
         let store = ResultStore {
             path,
             file: Mutex::new(file),
+            _lock: lock,
         };
         store.write_line(&Line::Session(Session {
             started_unix: unix_now(),
             machine: header.machine.clone(),
             trials_present: records.len(),
+            spec_text: header.spec_text.clone(),
+            program_version: env!("CARGO_PKG_VERSION").to_string(),
+            kernel: header.kernel.clone(),
         }))?;
         Ok(Opened {
             store,
@@ -440,14 +661,14 @@ impl ResultStore {
             .append(true)
             .open(path)
             .map_err(io_err(path))?;
-        file.write_all(encode_line(&Line::Header(header.clone())).as_bytes())
+        file.write_all(encode_line(path, &Line::Header(header.clone()))?.as_bytes())
             .and_then(|_| file.sync_data())
             .map_err(io_err(path))?;
         Ok(file)
     }
 
     fn write_line(&self, line: &Line) -> Result<(), StoreError> {
-        let text = encode_line(line);
+        let text = encode_line(&self.path, line)?;
         // A poisoned lock only means another worker panicked mid-trial; the file is still fine.
         let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
         file.write_all(text.as_bytes())
@@ -466,25 +687,28 @@ impl ResultStore {
     }
 }
 
-/// Writes `bytes` to `path` atomically: temporary file in the same directory, fsync, rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
-    if let Some(d) = dir {
-        std::fs::create_dir_all(d)?;
+pub use brdf_graphics::files::write_atomic;
+
+/// Replaces `<dir>/trials.jsonl` by a complete file (header, sessions, trials) in one atomic
+/// write (temporary file, fsync, rename): a reader sees the old file or the new one, never a
+/// mix. The caller proves it holds `dir`'s lock by passing it. Used by `merge`.
+pub fn write_results(
+    dir: &Path,
+    _lock: &DirLock,
+    header: &Header,
+    sessions: &[Session],
+    records: &[TrialRecord],
+) -> Result<PathBuf, StoreError> {
+    let path = dir.join(TRIALS_FILE);
+    let mut text = encode_line(&path, &Line::Header(header.clone()))?;
+    for s in sessions {
+        text.push_str(&encode_line(&path, &Line::Session(s.clone()))?);
     }
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    {
-        let mut f = File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
+    for r in records {
+        text.push_str(&encode_line(&path, &Line::Trial(r.clone()))?);
     }
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
+    write_atomic(&path, text.as_bytes()).map_err(io_err(&path))?;
+    Ok(path)
 }
 
 #[cfg(test)]
@@ -501,6 +725,10 @@ mod tests {
             machine: MachineInfo::current(1),
             spec: serde_json::json!({"a": 1}),
             spec_text: String::new(),
+            program_version: String::new(),
+            kernel: String::new(),
+            data_hashes: BTreeMap::new(),
+            shard: None,
         }
     }
 
@@ -512,6 +740,7 @@ mod tests {
                 residual_rows: 10,
                 jacobian_rows: 20,
                 rmse_rows: 30,
+                ..EvalCounts::default()
             },
         };
         TrialRecord {
@@ -547,7 +776,7 @@ mod tests {
         drop(o);
         // Simulate a kill in the middle of a third line.
         let path = dir.path().join(TRIALS_FILE);
-        let full = encode_line(&Line::Trial(record(2, 0.09)));
+        let full = encode_line(&path, &Line::Trial(record(2, 0.09))).unwrap();
         let mut f = OpenOptions::new().append(true).open(&path).unwrap();
         f.write_all(&full.as_bytes()[..full.len() / 2]).unwrap();
         drop(f);
@@ -589,22 +818,56 @@ mod tests {
         let path = dir.path().join(TRIALS_FILE);
         let mut text = std::fs::read_to_string(&path).unwrap();
         text.push_str("{garbage\n");
-        text.push_str(&encode_line(&Line::Trial(record(1, 0.09))));
+        text.push_str(&encode_line(&path, &Line::Trial(record(1, 0.09))).unwrap());
         std::fs::write(&path, text).unwrap();
         let err = read_results(&path).unwrap_err();
         assert!(matches!(err, StoreError::Corrupt { line: 4, .. }), "{err}");
     }
 
     #[test]
-    fn atomic_write_replaces() {
+    fn a_second_writer_is_refused_with_the_holders_pid() {
         let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("sub/x.json");
-        write_atomic(&p, b"one").unwrap();
-        write_atomic(&p, b"two").unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"two");
-        assert_eq!(
-            std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
-            1
+        let first = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        let err = ResultStore::open(dir.path(), header("f1"), false).unwrap_err();
+        match &err {
+            StoreError::Locked { pid, .. } => assert_eq!(*pid, Some(std::process::id())),
+            other => panic!("expected Locked, got {other}"),
+        }
+        assert!(err.to_string().contains("in use"), "{err}");
+        drop(first);
+        ResultStore::open(dir.path(), header("f1"), false).unwrap();
+    }
+
+    #[test]
+    fn packed_results_are_read_and_resumed_transparently() {
+        let dir = tempfile::tempdir().unwrap();
+        let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        o.store.append(&record(0, 0.09)).unwrap();
+        drop(o);
+        let plain = dir.path().join(TRIALS_FILE);
+        let packed = dir.path().join(PACKED_TRIALS_FILE);
+        let mut gz = flate2::write::GzEncoder::new(
+            File::create(&packed).unwrap(),
+            flate2::Compression::default(),
         );
+        gz.write_all(&std::fs::read(&plain).unwrap()).unwrap();
+        gz.finish().unwrap();
+        std::fs::remove_file(&plain).unwrap();
+
+        let c = read_results(dir.path()).unwrap();
+        assert_eq!(c.records, vec![record(0, 0.09)]);
+        assert!(!plain.exists(), "reading must not unpack");
+
+        let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+        assert_eq!(o.records, vec![record(0, 0.09)]);
+        assert!(
+            o.notes.iter().any(|n| n.contains("unpacked")),
+            "{:?}",
+            o.notes
+        );
+        o.store.append(&record(1, 0.09)).unwrap();
+        drop(o);
+        assert_eq!(read_results(dir.path()).unwrap().records.len(), 2);
+        assert!(packed.exists(), "the packed copy is kept");
     }
 }

@@ -55,17 +55,13 @@ fn check_run_plot_stats() {
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
     assert!(t.contains("target RMSE 0.105") && t.contains("RPLS"), "{t}");
-    assert!(dir.path().join("results/tiny/trials.jsonl").exists());
-    assert!(!dir.path().join("results/tiny/plots").exists());
+    assert!(dir.path().join("runs/tiny/trials.jsonl").exists());
+    assert!(!dir.path().join("runs/tiny/plots").exists());
 
     // Re-plot from the results directory alone (spec read from the header).
-    let o = brdf_sls(&["plot", "results/tiny"], dir.path());
+    let o = brdf_sls(&["plot", "runs/tiny"], dir.path());
     assert!(o.status.success(), "{}", text(&o));
-    assert!(
-        dir.path()
-            .join("results/tiny/plots/tuning-trace.png")
-            .exists()
-    );
+    assert!(dir.path().join("runs/tiny/plots/tuning-trace.png").exists());
     let o = brdf_sls(&["stats", "tiny.toml"], dir.path());
     assert!(o.status.success(), "{}", text(&o));
 
@@ -418,7 +414,7 @@ fn polar_from_results_uses_the_best_trial() {
             "--incident",
             "40",
             "--from-results",
-            "results/tiny",
+            "runs/tiny",
             "--config",
             "AED",
             "--formats",
@@ -436,7 +432,7 @@ fn polar_from_results_uses_the_best_trial() {
             "polar",
             &data,
             "--from-results",
-            "results/tiny",
+            "runs/tiny",
             "--config",
             "ASA",
         ],
@@ -447,19 +443,131 @@ fn polar_from_results_uses_the_best_trial() {
 }
 
 #[test]
-fn packed_results_get_an_unpack_hint_not_a_fresh_file() {
+fn packed_results_are_read_and_resumed_without_unpacking_by_hand() {
+    use std::io::Write;
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("packed");
-    std::fs::create_dir(&out).unwrap();
-    std::fs::write(out.join("trials.jsonl.gz"), b"not really gzip").unwrap();
+    std::fs::write(
+        dir.path().join("tiny.toml"),
+        common::TINY.replace("trials = 4", "trials = 1"),
+    )
+    .unwrap();
+    let run = ["run", "tiny.toml", "--no-plots", "--limit", "1"];
+    assert!(brdf_sls(&run, dir.path()).status.success());
+    // Pack the results as the repository commits them.
+    let out = dir.path().join("runs/tiny");
+    let plain = out.join("trials.jsonl");
+    let mut gz = flate2::write::GzEncoder::new(
+        std::fs::File::create(out.join("trials.jsonl.gz")).unwrap(),
+        flate2::Compression::best(),
+    );
+    gz.write_all(&std::fs::read(&plain).unwrap()).unwrap();
+    gz.finish().unwrap();
+    std::fs::remove_file(&plain).unwrap();
+
+    let o = brdf_sls(&["stats", "runs/tiny", "--print-only"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("1 of 3 trials"), "{}", text(&o));
+    assert!(!plain.exists(), "stats must not unpack");
+    let o = brdf_sls(&["run", "tiny.toml", "--no-plots"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("unpacked"), "{}", text(&o));
+    assert!(text(&o).contains("2 new trials"), "{}", text(&o));
+
+    // A corrupt packed file is an error naming it, not a panic.
+    let bad = dir.path().join("bad");
+    std::fs::create_dir(&bad).unwrap();
+    std::fs::write(bad.join("trials.jsonl.gz"), b"not really gzip").unwrap();
+    let t = failed_cleanly(&brdf_sls(&["stats", "bad"], dir.path()));
+    assert!(t.contains("trials.jsonl.gz"), "{t}");
+}
+
+/// Runs `args` with standard output (and, with `close_stderr`, standard error) closed at once
+/// by the reader, as `cmd | head -c0` does.
+fn with_closed_output(args: &[&str], cwd: &Path, close_stderr: bool) -> std::process::ExitStatus {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+        .args(args)
+        .current_dir(cwd)
+        .env("CI", "true")
+        .stdout(Stdio::piped())
+        .stderr(if close_stderr {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        })
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    child.wait().unwrap()
+}
+
+#[test]
+fn a_closed_output_pipe_ends_quietly_with_status_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = cornell("krylon_blue");
     for args in [
-        vec!["stats", "packed"],
-        vec!["plot", "packed"],
-        vec!["run", "--out", "packed", "--limit", "1"],
+        vec!["info", data.as_str()],
+        vec!["eval", data.as_str(), "--params", "tuning"],
+        vec!["gen", "--params", "tuning", "--samples", "200000"],
+        vec!["check", "--help"],
     ] {
-        let t = failed_cleanly(&brdf_sls(&args, dir.path()));
-        assert!(t.contains("gunzip -k"), "{args:?}: {t}");
+        let status = with_closed_output(&args, dir.path(), false);
+        assert_eq!(status.code(), Some(0), "{args:?}");
     }
-    // Nothing was started beside the packed file.
-    assert!(!out.join("trials.jsonl").exists());
+    // `run` whose output pipes close still writes its statistics, table and plots.
+    std::fs::write(dir.path().join("tiny.toml"), common::TINY).unwrap();
+    let status = with_closed_output(&["run", "tiny.toml"], dir.path(), true);
+    assert_eq!(status.code(), Some(0));
+    for f in [
+        "table.txt",
+        "stats.csv",
+        "summary.json",
+        "plots/tuning-trace.png",
+    ] {
+        assert!(dir.path().join("runs/tiny").join(f).exists(), "{f}");
+    }
+}
+
+#[test]
+fn a_full_disk_on_stdout_is_an_error_not_a_panic() {
+    let Ok(full) = std::fs::File::create("/dev/full") else {
+        return; // not Linux
+    };
+    let o = Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+        .args(["info", &cornell("krylon_blue")])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("standard output") && !err.contains("panicked"),
+        "{err}"
+    );
+}
+
+#[test]
+fn exit_codes_follow_unix_habits() {
+    let dir = tempfile::tempdir().unwrap();
+    let code = |args: &[&str]| brdf_sls(args, dir.path()).status.code();
+    assert_eq!(code(&["--help"]), Some(0));
+    assert_eq!(code(&["no-such-command"]), Some(2));
+    assert_eq!(code(&["gen", "--kd", "nan", "--lobe", "1,1,1,2"]), Some(2));
+    assert_eq!(code(&["gen", "--kd", "2", "--lobe", "1,1,1,2"]), Some(2));
+    assert_eq!(code(&["gen", "--kd", "0.1", "--lobe", "5,1,1,2"]), Some(2));
+    assert_eq!(code(&["gen", "--kd", "0.1", "--lobe", "1,1,1,-2"]), Some(2));
+    assert_eq!(
+        code(&["gen", "--params", "tuning", "--sigma", "1e300"]),
+        Some(2)
+    );
+    assert_eq!(
+        code(&["eval", "missing.csv", "--params", "tuning"]),
+        Some(2)
+    );
+    assert_eq!(code(&["run", "missing.toml"]), Some(2));
+    std::fs::write(dir.path().join("zero.csv"), vec![0u8; 4096]).unwrap();
+    let o = brdf_sls(&["fit", "zero.csv", "--cpu-seconds", "0.1"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(!text(&o).contains("panicked"));
 }

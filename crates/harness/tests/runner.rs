@@ -24,7 +24,7 @@ fn options(threads: usize) -> RunOptions {
 fn results_identical_for_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
     let s = spec(TINY, dir.path());
-    let (exec, built) = SlsExecutor::new(&s).unwrap();
+    let (exec, built) = SlsExecutor::new(&s, brdf_model::Kernel::Auto).unwrap();
     assert_eq!(built[0].data.len(), 400);
     let one = run_experiment(&s, &dir.path().join("one"), &options(1), &exec).unwrap();
     let two = run_experiment(&s, &dir.path().join("two"), &options(2), &exec).unwrap();
@@ -52,7 +52,7 @@ fn results_identical_for_one_and_two_threads() {
 fn resume_after_interruption_matches_uninterrupted_run() {
     let dir = tempfile::tempdir().unwrap();
     let s = spec(TINY, dir.path());
-    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let (exec, _) = SlsExecutor::new(&s, brdf_model::Kernel::Auto).unwrap();
     let full = run_experiment(&s, &dir.path().join("full"), &options(2), &exec).unwrap();
 
     // Interrupted run: 5 trials, then a kill in the middle of writing the 6th line.
@@ -98,7 +98,7 @@ fn resume_after_interruption_matches_uninterrupted_run() {
 fn different_spec_is_refused_and_fresh_moves_it_aside() {
     let dir = tempfile::tempdir().unwrap();
     let s = spec(TINY, dir.path());
-    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let (exec, _) = SlsExecutor::new(&s, brdf_model::Kernel::Auto).unwrap();
     let out = dir.path().join("r");
     let mut opts = options(2);
     opts.limit = Some(2);
@@ -138,7 +138,7 @@ fn different_spec_is_refused_and_fresh_moves_it_aside() {
 fn report_writes_statistics_and_plots() {
     let dir = tempfile::tempdir().unwrap();
     let s = spec(TINY, dir.path());
-    let (exec, _) = SlsExecutor::new(&s).unwrap();
+    let (exec, _) = SlsExecutor::new(&s, brdf_model::Kernel::Auto).unwrap();
     let out = dir.path().join("r");
     let run = run_experiment(&s, &out, &options(2), &exec).unwrap();
     let c = read_results(&out).unwrap();
@@ -201,6 +201,7 @@ impl harness::run::Executor for Fake {
                 residual_rows: t.seed % 977,
                 jacobian_rows: 0,
                 rmse_rows: 100,
+                ..sls::EvalCounts::default()
             },
         };
         sls::TrialResult {

@@ -19,327 +19,30 @@
 //! - Pairwise comparisons per instance and target: Mann-Whitney U (two-sided, censored runs
 //!   coded as +inf; statrs) and two-sample Kolmogorov-Smirnov (statrs) with Holm's correction
 //!   over all pairs of the (instance, target, measure) family, and probabilistic domination
-//!   (one RTD at or above the other everywhere and strictly above somewhere).
+//!   (one RTD at or above the other everywhere and strictly above somewhere). The log-rank
+//!   test (censored runs at their own censoring times) with its hazard ratio estimate is
+//!   Holm-corrected over the same family.
 
-use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 use statrs::statistics::{Data, Distribution, Max, Min, OrderStatistics};
-use statrs::stats_tests::ks_test::{KSTwoSampleAlternativeMethod, ks_twosample};
-use statrs::stats_tests::mannwhitneyu::{MannWhitneyUMethod, mannwhitneyu};
-use statrs::stats_tests::{Alternative, NaNPolicy};
+
+mod bootstrap;
+mod hypothesis;
+mod logrank;
+mod rtd;
+mod tables;
+
+pub use bootstrap::{bootstrap_ert, simulated_restarts};
+pub use hypothesis::{holm, kolmogorov_smirnov, mann_whitney};
+pub use logrank::{LogRank, log_rank};
+pub use rtd::{
+    Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier, outcome,
+    quantile,
+};
+pub use tables::{configs_csv, csv_field, fmt_num, table, tests_csv};
 
 use crate::seed::StableHasher;
 use crate::store::TrialRecord;
-
-/// How run time is measured.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Measure {
-    /// CPU seconds of the worker thread.
-    CpuSeconds,
-    /// Sample-evaluations (residual + Jacobian + RMSE rows).
-    Evaluations,
-}
-
-impl Measure {
-    /// Both measures, CPU first.
-    pub const ALL: [Measure; 2] = [Measure::CpuSeconds, Measure::Evaluations];
-
-    /// Reads this measure from a stamp.
-    pub fn of(self, stamp: &sls::Stamp) -> f64 {
-        match self {
-            Measure::CpuSeconds => stamp.cpu_seconds,
-            Measure::Evaluations => stamp.evaluations.total() as f64,
-        }
-    }
-
-    /// Axis label.
-    pub fn label(self) -> &'static str {
-        match self {
-            Measure::CpuSeconds => "CPU seconds",
-            Measure::Evaluations => "sample-evaluations",
-        }
-    }
-
-    /// Short name for file names and CSV.
-    pub fn short(self) -> &'static str {
-        match self {
-            Measure::CpuSeconds => "cpu",
-            Measure::Evaluations => "evals",
-        }
-    }
-}
-
-/// One run seen for one target and measure.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Outcome {
-    /// Run time to target, if reached.
-    pub success: Option<f64>,
-    /// Time the run spent in total (success time, or where it was censored).
-    pub spent: f64,
-}
-
-impl Outcome {
-    /// Run time with censored runs coded as +inf (for rank tests).
-    pub fn time_or_inf(&self) -> f64 {
-        self.success.unwrap_or(f64::INFINITY)
-    }
-}
-
-/// The outcome of one stored trial for `target` in `measure`.
-pub fn outcome(record: &TrialRecord, target: f64, measure: Measure) -> Outcome {
-    let r = &record.result;
-    let hit = r.first_reaching(target).or_else(|| {
-        // The trace should always hold the reaching point; fall back to reached_at for the
-        // run's own target so a trial without trace still counts.
-        r.reached_at.filter(|_| target >= record.target)
-    });
-    match hit {
-        Some(s) => {
-            let t = measure.of(&s);
-            Outcome {
-                success: Some(t),
-                spent: t,
-            }
-        }
-        None => Outcome {
-            success: None,
-            spent: measure.of(&r.ended_at),
-        },
-    }
-}
-
-/// Expected run time with restarts: total time spent / successes (+inf without successes).
-pub fn ert(outcomes: &[Outcome]) -> f64 {
-    let successes = outcomes.iter().filter(|o| o.success.is_some()).count();
-    if successes == 0 {
-        return f64::INFINITY;
-    }
-    outcomes.iter().map(|o| o.spent).sum::<f64>() / successes as f64
-}
-
-/// Kaplan-Meier estimate of the CDF of time-to-target: `(time, F(time))` after each distinct
-/// success time, in increasing time. Censored runs leave the risk set at their censoring time
-/// (a run censored at exactly a success time counts as still at risk then).
-pub fn kaplan_meier(outcomes: &[Outcome]) -> Vec<(f64, f64)> {
-    let mut events: Vec<(f64, bool)> = outcomes
-        .iter()
-        .map(|o| match o.success {
-            Some(t) => (t, true),
-            None => (o.spent, false),
-        })
-        .collect();
-    // Successes before censorings at equal times (standard KM convention).
-    events.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
-    let mut at_risk = events.len() as f64;
-    let mut survival = 1.0;
-    let mut curve = Vec::new();
-    let mut i = 0;
-    while i < events.len() {
-        let t = events[i].0;
-        let mut deaths = 0.0;
-        let mut censored = 0.0;
-        while i < events.len() && events[i].0 == t {
-            if events[i].1 {
-                deaths += 1.0;
-            } else {
-                censored += 1.0;
-            }
-            i += 1;
-        }
-        if deaths > 0.0 {
-            survival *= 1.0 - deaths / at_risk;
-            curve.push((t, 1.0 - survival));
-        }
-        at_risk -= deaths + censored;
-    }
-    curve
-}
-
-/// Value of a step CDF (from [`kaplan_meier`]) at `t`.
-pub fn cdf_at(curve: &[(f64, f64)], t: f64) -> f64 {
-    curve
-        .iter()
-        .take_while(|(x, _)| *x <= t)
-        .last()
-        .map_or(0.0, |p| p.1)
-}
-
-/// Smallest time at which the step CDF reaches `p` (`None` if it never does).
-pub fn quantile(curve: &[(f64, f64)], p: f64) -> Option<f64> {
-    // A small tolerance so that e.g. 5 of 10 runs count as reaching p = 0.5 despite rounding.
-    curve.iter().find(|(_, f)| *f >= p - 1e-12).map(|c| c.0)
-}
-
-/// Whether censoring times differ in a way that makes KM differ from the plain ECDF.
-pub fn censoring_heterogeneous(outcomes: &[Outcome]) -> bool {
-    let last_success = outcomes
-        .iter()
-        .filter_map(|o| o.success)
-        .fold(f64::NEG_INFINITY, f64::max);
-    outcomes
-        .iter()
-        .any(|o| o.success.is_none() && o.spent < last_success)
-}
-
-/// ERT bootstrap by resampling trials: (standard deviation, p10, p50, p90). Resamples without
-/// success are skipped; all `None` when fewer than 2 resamples had one.
-pub fn bootstrap_ert(
-    outcomes: &[Outcome],
-    resamples: usize,
-    seed: u64,
-) -> (Option<f64>, Option<f64>, Option<f64>, Option<f64>) {
-    let n = outcomes.len();
-    if n == 0 || outcomes.iter().all(|o| o.success.is_none()) {
-        return (None, None, None, None);
-    }
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
-    let mut erts = Vec::with_capacity(resamples);
-    for _ in 0..resamples {
-        let (mut spent, mut succ) = (0.0, 0usize);
-        for _ in 0..n {
-            let o = &outcomes[rng.random_range(0..n)];
-            spent += o.spent;
-            succ += usize::from(o.success.is_some());
-        }
-        if succ > 0 {
-            erts.push(spent / succ as f64);
-        }
-    }
-    if erts.len() < 2 {
-        return (None, None, None, None);
-    }
-    erts.sort_by(f64::total_cmp);
-    let mean = erts.iter().sum::<f64>() / erts.len() as f64;
-    let var = erts.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (erts.len() - 1) as f64;
-    (
-        Some(var.sqrt()),
-        Some(sorted_percentile(&erts, 0.10)),
-        Some(sorted_percentile(&erts, 0.50)),
-        Some(sorted_percentile(&erts, 0.90)),
-    )
-}
-
-/// COCO's simulated restarts: percentiles (10, 50, 90) of the run time of "restart until a
-/// success" built by drawing runs with replacement.
-pub fn simulated_restarts(outcomes: &[Outcome], resamples: usize, seed: u64) -> Option<[f64; 3]> {
-    let n = outcomes.len();
-    if n == 0 || outcomes.iter().all(|o| o.success.is_none()) || resamples == 0 {
-        return None;
-    }
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
-    let mut totals = Vec::with_capacity(resamples);
-    for _ in 0..resamples {
-        let mut total = 0.0;
-        loop {
-            let o = &outcomes[rng.random_range(0..n)];
-            total += o.spent;
-            if o.success.is_some() {
-                break;
-            }
-        }
-        totals.push(total);
-    }
-    totals.sort_by(f64::total_cmp);
-    Some([
-        sorted_percentile(&totals, 0.10),
-        sorted_percentile(&totals, 0.50),
-        sorted_percentile(&totals, 0.90),
-    ])
-}
-
-/// Inverse-ECDF percentile of sorted finite values (Hyndman-Fan type 1).
-fn sorted_percentile(sorted: &[f64], p: f64) -> f64 {
-    let k = ((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
-    sorted[k - 1]
-}
-
-/// Holm's step-down adjustment of p-values (same order as the input).
-pub fn holm(p: &[f64]) -> Vec<f64> {
-    let m = p.len();
-    let mut order: Vec<usize> = (0..m).collect();
-    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
-    let mut adjusted = vec![0.0; m];
-    let mut running: f64 = 0.0;
-    for (rank, &i) in order.iter().enumerate() {
-        let a = ((m - rank) as f64 * p[i]).min(1.0);
-        running = running.max(a);
-        adjusted[i] = running;
-    }
-    adjusted
-}
-
-/// Two-sided Mann-Whitney U (statistic of `a`, p-value); `None` for empty samples.
-pub fn mann_whitney(a: &[f64], b: &[f64]) -> Option<(f64, f64)> {
-    mannwhitneyu(a, b, MannWhitneyUMethod::Automatic, Alternative::TwoSided).ok()
-}
-
-/// Below this `D sqrt(mn / (m + n))` the asymptotic two-sided p-value is 1 to within 1e-8
-/// (the Kolmogorov distribution's CDF at 0.2 is below 1e-20).
-const KS_NEGLIGIBLE_X: f64 = 0.2;
-
-/// The two-sample KS statistic `D = sup |F_a - F_b|` (`+inf` values included, as censored
-/// runs are).
-fn ks_statistic(a: &[f64], b: &[f64]) -> f64 {
-    let (mut a, mut b) = (a.to_vec(), b.to_vec());
-    a.sort_by(f64::total_cmp);
-    b.sort_by(f64::total_cmp);
-    let (mut i, mut j, mut d) = (0, 0, 0.0f64);
-    while i < a.len() && j < b.len() {
-        let t = if a[i].total_cmp(&b[j]).is_le() {
-            a[i]
-        } else {
-            b[j]
-        };
-        while i < a.len() && a[i].total_cmp(&t).is_le() {
-            i += 1;
-        }
-        while j < b.len() && b[j].total_cmp(&t).is_le() {
-            j += 1;
-        }
-        d = d.max((i as f64 / a.len() as f64 - j as f64 / b.len() as f64).abs());
-    }
-    d
-}
-
-/// Two-sample Kolmogorov-Smirnov (statistic D, two-sided p-value); exact for small samples.
-pub fn kolmogorov_smirnov(a: &[f64], b: &[f64]) -> Option<(f64, f64)> {
-    if a.is_empty() || b.is_empty() {
-        return None;
-    }
-    // statrs 0.19's asymptotic series never terminates at D = 0 (its first term stays 1), which
-    // happens whenever two configurations have identical outcomes, e.g. all censored.
-    let d = ks_statistic(a, b);
-    let (m, n) = (a.len() as f64, b.len() as f64);
-    if d * (m * n / (m + n)).sqrt() < KS_NEGLIGIBLE_X {
-        return Some((d, 1.0));
-    }
-    let method = if a.len() <= 100 && b.len() <= 100 {
-        KSTwoSampleAlternativeMethod::TwoSidedExact
-    } else {
-        KSTwoSampleAlternativeMethod::TwoSidedAsymptotic
-    };
-    ks_twosample(a.to_vec(), b.to_vec(), method, NaNPolicy::Error).ok()
-}
-
-/// `Some((a_dominates_b, b_dominates_a))`: probabilistic domination of step CDFs.
-pub fn domination(a: &[(f64, f64)], b: &[(f64, f64)]) -> (bool, bool) {
-    let mut times: Vec<f64> = a.iter().chain(b).map(|p| p.0).collect();
-    times.sort_by(f64::total_cmp);
-    let (mut a_ge, mut b_ge, mut a_gt, mut b_gt) = (true, true, false, false);
-    for t in times {
-        let (fa, fb) = (cdf_at(a, t), cdf_at(b, t));
-        if fa < fb - 1e-12 {
-            a_ge = false;
-            b_gt = true;
-        }
-        if fb < fa - 1e-12 {
-            b_ge = false;
-            a_gt = true;
-        }
-    }
-    (a_ge && a_gt, b_ge && b_gt)
-}
 
 /// Summary of one (instance, configuration, target) in one measure.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -440,6 +143,18 @@ pub struct PairTest {
     pub a_dominates: bool,
     /// `b`'s RTD is at or above `a`'s everywhere and above somewhere.
     pub b_dominates: bool,
+    /// Log-rank chi-square (censored runs at their own censoring times; [`log_rank`]).
+    #[serde(default)]
+    pub lr_chi2: Option<f64>,
+    /// Log-rank p-value (chi-square, 1 degree of freedom).
+    #[serde(default)]
+    pub lr_p: Option<f64>,
+    /// Holm-adjusted log-rank p-value.
+    #[serde(default)]
+    pub lr_p_holm: Option<f64>,
+    /// Hazard ratio estimate `(O_a/E_a)/(O_b/E_b)`: above 1, `a` reaches the target sooner.
+    #[serde(default)]
+    pub lr_hazard_ratio: Option<f64>,
 }
 
 /// All statistics of an experiment.
@@ -630,6 +345,7 @@ pub fn compute(
                         let mw = mann_whitney(&a, &b);
                         let ks = kolmogorov_smirnov(&a, &b);
                         let (ad, bd) = domination(&kaplan_meier(&oa), &kaplan_meier(&ob));
+                        let lr = log_rank(&oa, &ob);
                         tests.push(PairTest {
                             instance: inst.clone(),
                             target: t,
@@ -644,6 +360,10 @@ pub fn compute(
                             ks_p_holm: None,
                             a_dominates: ad,
                             b_dominates: bd,
+                            lr_chi2: lr.map(|x| x.chi2),
+                            lr_p: lr.map(|x| x.p),
+                            lr_p_holm: None,
+                            lr_hazard_ratio: lr.map(|x| x.hazard_ratio),
                         });
                     }
                 }
@@ -672,224 +392,11 @@ fn adjust_family(family: &mut [PairTest]) {
     };
     let mw = apply(|t| t.mw_p, family);
     let ks = apply(|t| t.ks_p, family);
+    let lr = apply(|t| t.lr_p, family);
     for (i, t) in family.iter_mut().enumerate() {
         t.mw_p_holm = mw[i];
         t.ks_p_holm = ks[i];
-    }
-}
-
-fn opt(v: Option<f64>) -> String {
-    v.map_or_else(|| "inf".to_string(), |x| format!("{x}"))
-}
-
-/// The per-configuration statistics as CSV (one row per instance, configuration, target, measure).
-pub fn configs_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,config,target,measure,trials,successes,success_rate,q10,q25,q50,q75,q90,ert,ert_sd,ert_p10,ert_p50,ert_p90,restart_p10,restart_p50,restart_p90,km_censoring\n",
-    );
-    for c in &report.configs {
-        for (m, ms) in [
-            (Measure::CpuSeconds, &c.cpu),
-            (Measure::Evaluations, &c.evaluations),
-        ] {
-            let q: Vec<String> = ms.quantiles.iter().map(|v| opt(*v)).collect();
-            let r = ms.restarts.map_or([None; 3], |r| r.map(Some));
-            let fields = [
-                csv_field(&c.instance),
-                csv_field(&c.config),
-                c.target.to_string(),
-                m.short().to_string(),
-                ms.trials.to_string(),
-                ms.successes.to_string(),
-                ms.success_rate.to_string(),
-                q.join(","),
-                opt(ms.ert),
-                opt(ms.ert_sd),
-                opt(ms.ert_p10),
-                opt(ms.ert_p50),
-                opt(ms.ert_p90),
-                opt(r[0]),
-                opt(r[1]),
-                opt(r[2]),
-                ms.km_censoring.to_string(),
-            ];
-            s.push_str(&fields.join(","));
-            s.push('\n');
-        }
-    }
-    s
-}
-
-/// The pairwise tests as CSV.
-pub fn tests_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,target,measure,a,b,mw_u,mw_p,mw_p_holm,ks_d,ks_p,ks_p_holm,a_dominates,b_dominates\n",
-    );
-    for t in &report.tests {
-        s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            csv_field(&t.instance),
-            t.target,
-            t.measure.short(),
-            csv_field(&t.a),
-            csv_field(&t.b),
-            opt(t.mw_u),
-            opt(t.mw_p),
-            opt(t.mw_p_holm),
-            opt(t.ks_d),
-            opt(t.ks_p),
-            opt(t.ks_p_holm),
-            t.a_dominates,
-            t.b_dominates
-        ));
-    }
-    s
-}
-
-/// Quotes a CSV field when needed.
-pub fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
-/// Formats a number compactly for tables (`-` for none).
-pub fn fmt_num(v: Option<f64>) -> String {
-    match v {
-        None => "-".into(),
-        Some(0.0) => "0".into(),
-        Some(x) if x.abs() >= 1e5 => format!("{x:.3e}"),
-        Some(x) if x.abs() >= 100.0 => format!("{x:.0}"),
-        Some(x) if x.abs() >= 1.0 => format!("{x:.2}"),
-        Some(x) if x.abs() < 1e-4 => format!("{x:.2e}"),
-        // Three significant digits below 1 (run times of a few milliseconds are common).
-        Some(x) => {
-            let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
-            format!("{x:.decimals$}")
-        }
-    }
-}
-
-/// A plain-text table of the statistics, one block per instance and target.
-pub fn table(report: &StatsReport) -> String {
-    let mut out = String::new();
-    let mut last: Option<(&str, f64)> = None;
-    let width = report
-        .configs
-        .iter()
-        .map(|c| c.config.len())
-        .max()
-        .unwrap_or(6)
-        .max(13);
-    for c in &report.configs {
-        if last != Some((c.instance.as_str(), c.target)) {
-            out.push_str(&format!(
-                "\n{} - target RMSE {}\n{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
-                c.instance,
-                c.target,
-                "configuration",
-                "success",
-                "q25 s",
-                "median s",
-                "q75 s",
-                "ERT s",
-                "ERT 10-90% s",
-                "med evals",
-                "ERT evals",
-            ));
-            last = Some((c.instance.as_str(), c.target));
-        }
-        let m = &c.cpu;
-        let band = match (m.ert_p10, m.ert_p90) {
-            (Some(a), Some(b)) => format!("[{}, {}]", fmt_num(Some(a)), fmt_num(Some(b))),
-            _ => "-".into(),
-        };
-        out.push_str(&format!(
-            "{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
-            c.config,
-            format!("{}/{}", m.successes, m.trials),
-            fmt_num(m.quantiles[1]),
-            fmt_num(m.quantiles[2]),
-            fmt_num(m.quantiles[3]),
-            fmt_num(m.ert),
-            band,
-            fmt_num(c.evaluations.quantiles[2]),
-            fmt_num(c.evaluations.ert),
-        ));
-    }
-    out.push_str(&finals_table(report, width));
-    let sig: Vec<&PairTest> = report
-        .tests
-        .iter()
-        .filter(|t| t.measure == Measure::CpuSeconds)
-        .collect();
-    if sig.len() > 30 {
-        out.push_str(&format!(
-            "\n{} pairwise tests (Mann-Whitney, KS, Holm-adjusted): see tests.csv\n",
-            sig.len()
-        ));
-    } else if !sig.is_empty() {
-        out.push_str("\nPairwise (CPU time; Holm-adjusted p-values; censored runs = +inf)\n");
-        for t in sig {
-            let dom = if t.a_dominates {
-                format!("{} dominates", t.a)
-            } else if t.b_dominates {
-                format!("{} dominates", t.b)
-            } else {
-                "curves cross".into()
-            };
-            out.push_str(&format!(
-                "  {} q={}: {} vs {}: Mann-Whitney p={}, KS p={}, {}\n",
-                t.instance,
-                t.target,
-                t.a,
-                t.b,
-                fmt_p(t.mw_p_holm),
-                fmt_p(t.ks_p_holm),
-                dom
-            ));
-        }
-    }
-    out
-}
-
-fn finals_table(report: &StatsReport, width: usize) -> String {
-    let mut out = String::new();
-    let mut last: Option<&str> = None;
-    for q in &report.finals {
-        if last != Some(q.instance.as_str()) {
-            out.push_str(&format!(
-                "\n{} - final RMSE per trial\n{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
-                q.instance, "configuration", "trials", "mean", "median", "min", "max", "median end s", "finished"
-            ));
-            last = Some(q.instance.as_str());
-        }
-        let r = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |x| format!("{x:.6}"));
-        out.push_str(&format!(
-            "{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
-            q.config,
-            q.trials,
-            r(q.rmse_mean),
-            r(q.rmse_median),
-            r(q.rmse_min),
-            r(q.rmse_max),
-            fmt_num(q.end_cpu_median),
-            q.finished
-        ));
-    }
-    out
-}
-
-fn fmt_p(p: Option<f64>) -> String {
-    match p {
-        None => "-".into(),
-        // statrs computes the asymptotic Mann-Whitney p as 1 - Phi(z), which is exactly 0 once
-        // z > ~8.3: all that is known then is p < ~1e-15.
-        Some(0.0) => "<1e-15".into(),
-        Some(p) if p < 1e-4 => format!("{p:.1e}"),
-        Some(p) => format!("{p:.4}"),
+        t.lr_p_holm = lr[i];
     }
 }
 
@@ -993,7 +500,7 @@ mod tests {
         let (d, p) = kolmogorov_smirnov(&a, &b).unwrap();
         assert!((d - 1.0).abs() < 1e-9, "{d}");
         assert!(p < 1e-10, "{p}");
-        assert_eq!(ks_statistic(&[1.0, 2.0], &[2.0, 3.0]), 0.5);
+        assert_eq!(hypothesis::ks_statistic(&[1.0, 2.0], &[2.0, 3.0]), 0.5);
     }
 
     #[test]

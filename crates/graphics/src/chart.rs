@@ -1,0 +1,612 @@
+//! Line charts (plotters; PNG and SVG with the DejaVu Sans font embedded in the binary).
+//!
+//! Every plot is described by a [`Chart`] (series of points, optional bands, axes, reference
+//! lines) and drawn by [`draw`]. A chart is plain data: whoever has numbers (the harness's
+//! statistics, a user's script) builds one; this module knows nothing about experiments.
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
+
+use crate::ImageFormat as PlotFormat;
+
+/// Plot errors.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// Drawing failed.
+    #[error("{path}: drawing failed: {message}")]
+    Draw {
+        /// Output file.
+        path: PathBuf,
+        /// plotters' message.
+        message: String,
+    },
+    /// Writing failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// Output file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// Registers DejaVu Sans as plotters' "sans-serif" (no system fonts needed). Idempotent.
+pub fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bytes are a valid TTF shipped by the dejavu crate; a failure would leave text
+        // undrawable and every plot reports it.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// The tab10 palette (distinguishable, colour-blind friendlier than pure RGB).
+pub const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Palette colour `i` (cycling).
+pub fn color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Solid for the first palette round, dashed after it, so curves stay distinguishable.
+pub fn line_style(i: usize) -> Style {
+    if i < PALETTE.len() {
+        Style::Line
+    } else {
+        Style::Dashed
+    }
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Style {
+    /// A solid polyline.
+    Line,
+    /// A dashed polyline.
+    Dashed,
+    /// Markers only (filled circles).
+    Points,
+    /// Markers only (hollow circles).
+    HollowPoints,
+}
+
+/// One series of a chart.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend text (`None`: no legend entry).
+    pub label: Option<String>,
+    /// Points in data coordinates.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+    /// Colour.
+    pub color: RGBColor,
+    /// Optional band `(x, lo, hi)` drawn shaded behind the series.
+    pub band: Vec<(f64, f64, f64)>,
+}
+
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LegendAt {
+    /// Upper left.
+    UpperLeft,
+    /// Upper right.
+    UpperRight,
+    /// Lower right.
+    LowerRight,
+    /// Lower left.
+    LowerLeft,
+}
+
+/// A chart ready to draw.
+#[derive(Clone, Debug)]
+pub struct Chart {
+    /// Title.
+    pub title: String,
+    /// X axis label.
+    pub x_label: String,
+    /// Y axis label.
+    pub y_label: String,
+    /// Logarithmic x axis.
+    pub x_log: bool,
+    /// Logarithmic y axis.
+    pub y_log: bool,
+    /// Series in drawing order.
+    pub series: Vec<Series>,
+    /// Vertical reference lines `(x, label)` (dashed grey).
+    pub vlines: Vec<(f64, String)>,
+    /// Horizontal reference lines `(y, label)` (dashed grey).
+    pub hlines: Vec<(f64, String)>,
+    /// Fixed x range (default: from the data).
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range (default: from the data).
+    pub y_range: Option<(f64, f64)>,
+    /// Legend position.
+    pub legend: LegendAt,
+}
+
+impl Chart {
+    /// An empty chart with titles.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Chart {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_log: false,
+            y_log: false,
+            series: Vec::new(),
+            vlines: Vec::new(),
+            hlines: Vec::new(),
+            x_range: None,
+            y_range: None,
+            legend: LegendAt::UpperLeft,
+        }
+    }
+
+    fn data_range(&self, axis: usize, log: bool) -> (f64, f64) {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        let mut take = |v: f64| {
+            if v.is_finite() && (!log || v > 0.0) {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        };
+        for s in &self.series {
+            for p in &s.points {
+                take(if axis == 0 { p.0 } else { p.1 });
+            }
+            for b in &s.band {
+                if axis == 0 {
+                    take(b.0);
+                } else {
+                    take(b.1);
+                    take(b.2);
+                }
+            }
+        }
+        if axis == 0 {
+            self.vlines.iter().for_each(|l| take(l.0));
+        } else {
+            self.hlines.iter().for_each(|l| take(l.0));
+        }
+        if !lo.is_finite() {
+            return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+        }
+        if log {
+            if hi <= lo * 1.0001 {
+                (lo / 2.0, hi * 2.0)
+            } else {
+                let r = (hi / lo).powf(0.05);
+                (lo / r, hi * r)
+            }
+        } else if hi <= lo {
+            (lo - 0.5 - lo.abs() * 0.1, hi + 0.5 + hi.abs() * 0.1)
+        } else {
+            let pad = (hi - lo) * 0.05;
+            (lo - pad, hi + pad)
+        }
+    }
+}
+
+/// Tick label on a log axis: only values with mantissa 1, 2 or 5 are labelled. Over about one
+/// decade plotters puts a key point at every integer mantissa, and at 1-9 labels per decade
+/// the wide ones run into each other (`90` and `100`).
+pub fn log_tick(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return tick(v);
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
+/// Compact tick labels: 0.001, 0.5, 12, 3.4k, 1.2M, 1e9.
+pub fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e9).contains(&a) {
+        let e = a.log10().floor();
+        let m = v / 10f64.powf(e);
+        if (m.round() - m).abs() < 1e-9 {
+            format!("{}e{}", m.round(), e)
+        } else {
+            format!("{m:.1}e{e}")
+        }
+    } else if a >= 1e6 {
+        trim(format!("{:.1}", v / 1e6)) + "M"
+    } else if a >= 1e4 {
+        trim(format!("{:.1}", v / 1e3)) + "k"
+    } else if a >= 10.0 {
+        trim(format!("{v:.1}"))
+    } else {
+        // Four significant digits, so neighbouring ticks never print alike.
+        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    }
+}
+
+fn trim(s: String) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// `base` with `.ext` appended (not `with_extension`: a base like `rtd-q0.11` has a dot).
+fn with_ext(base: &Path, ext: &str) -> PathBuf {
+    let mut s = base.as_os_str().to_os_string();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+/// Image size in pixels.
+pub const SIZE: (u32, u32) = (960, 640);
+
+/// Draws `chart` to `<base>.png` and/or `<base>.svg` (atomically), returning the files written.
+pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<PathBuf>, PlotError> {
+    register_fonts();
+    let mut written = Vec::new();
+    if let Some(dir) = base.parent() {
+        std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    for f in formats {
+        match f {
+            PlotFormat::Png => {
+                let path = with_ext(base, "png");
+                let name = path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                // The bitmap encoder picks the format from the extension: keep ".png" last.
+                let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
+                {
+                    let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+                    render_any(&root, chart).map_err(|message| PlotError::Draw {
+                        path: path.clone(),
+                        message,
+                    })?;
+                    root.present().map_err(|e| PlotError::Draw {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
+                }
+                std::fs::rename(&tmp, &path).map_err(|source| PlotError::Io {
+                    path: path.clone(),
+                    source,
+                })?;
+                written.push(path);
+            }
+            PlotFormat::Svg => {
+                let path = with_ext(base, "svg");
+                let mut text = String::new();
+                {
+                    let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+                    render_any(&root, chart).map_err(|message| PlotError::Draw {
+                        path: path.clone(),
+                        message,
+                    })?;
+                    root.present().map_err(|e| PlotError::Draw {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
+                }
+                // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face
+                // first (most systems have it), any sans-serif otherwise.
+                let text = text.replace(
+                    "font-family=\"sans-serif\"",
+                    "font-family=\"DejaVu Sans, sans-serif\"",
+                );
+                crate::files::write_atomic(&path, text.as_bytes()).map_err(|source| {
+                    PlotError::Io {
+                        path: path.clone(),
+                        source,
+                    }
+                })?;
+                written.push(path);
+            }
+        }
+    }
+    Ok(written)
+}
+
+fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
+    let (x0, x1) = c.x_range.unwrap_or_else(|| c.data_range(0, c.x_log));
+    let (y0, y1) = c.y_range.unwrap_or_else(|| c.data_range(1, c.y_log));
+    // plotters' log axis only labels powers of ten: below one decade it would show no tick
+    // labels at all, so such axes are drawn linear instead.
+    let x_log = c.x_log && x0 > 0.0 && x1 / x0 >= 10.0;
+    let y_log = c.y_log && y0 > 0.0 && y1 / y0 >= 10.0;
+    if x_log != c.x_log || y_log != c.y_log {
+        let mut lin = c.clone();
+        lin.x_log = x_log;
+        lin.y_log = y_log;
+        lin.x_range = Some((x0, x1));
+        lin.y_range = Some((y0, y1));
+        if !x_log {
+            lin.x_label = lin.x_label.replace(" (log scale)", "");
+        }
+        if !y_log {
+            lin.y_label = lin.y_label.replace(" (log scale)", "");
+        }
+        return render_any(root, &lin);
+    }
+    match (c.x_log, c.y_log) {
+        (false, false) => render(root, c, x0..x1, y0..y1),
+        (true, false) => render(root, c, (x0..x1).log_scale(), y0..y1),
+        (false, true) => render(root, c, x0..x1, (y0..y1).log_scale()),
+        (true, true) => render(root, c, (x0..x1).log_scale(), (y0..y1).log_scale()),
+    }
+}
+
+fn render<DB, XR, YR>(
+    root: &DrawingArea<DB, Shift>,
+    c: &Chart,
+    xr: XR,
+    yr: YR,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    XR: AsRangedCoord<Value = f64>,
+    YR: AsRangedCoord<Value = f64>,
+    XR::CoordDescType: ValueFormatter<f64>,
+    YR::CoordDescType: ValueFormatter<f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(&c.title, ("sans-serif", 22).into_font())
+        .margin(18)
+        .x_label_area_size(52)
+        .y_label_area_size(78)
+        .build_cartesian_2d(xr, yr)
+        .map_err(e)?;
+    let x_fmt = |v: &f64| if c.x_log { log_tick(*v) } else { tick(*v) };
+    let y_fmt = |v: &f64| if c.y_log { log_tick(*v) } else { tick(*v) };
+    chart
+        .configure_mesh()
+        .x_desc(c.x_label.as_str())
+        .y_desc(c.y_label.as_str())
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .x_labels(10)
+        .y_labels(10)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()
+        .map_err(e)?;
+    let (xs, ys) = (chart.x_range(), chart.y_range());
+    let clamp = |p: (f64, f64)| (p.0.clamp(xs.start, xs.end), p.1.clamp(ys.start, ys.end));
+    let grey = RGBColor(110, 110, 110);
+    for (x, _) in &c.vlines {
+        if *x >= xs.start && *x <= xs.end {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(*x, ys.start), (*x, ys.end)],
+                    6,
+                    4,
+                    grey.stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+    }
+    for (y, _) in &c.hlines {
+        if *y >= ys.start && *y <= ys.end {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(xs.start, *y), (xs.end, *y)],
+                    6,
+                    4,
+                    grey.stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+    }
+    for s in &c.series {
+        if s.band.len() >= 2 {
+            let mut poly: Vec<(f64, f64)> = s.band.iter().map(|b| clamp((b.0, b.2))).collect();
+            poly.extend(s.band.iter().rev().map(|b| clamp((b.0, b.1))));
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    s.color.mix(0.18).filled(),
+                )))
+                .map_err(e)?;
+        }
+    }
+    for s in &c.series {
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .map(clamp)
+            .collect();
+        let col = s.color;
+        let anno = match s.style {
+            Style::Line => chart
+                .draw_series(LineSeries::new(pts, col.stroke_width(2)))
+                .map_err(e)?,
+            Style::Dashed => chart
+                .draw_series(DashedLineSeries::new(pts, 8, 5, col.stroke_width(2)))
+                .map_err(e)?,
+            Style::Points => chart
+                .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, col.filled())))
+                .map_err(e)?,
+            Style::HollowPoints => chart
+                .draw_series(
+                    pts.into_iter()
+                        .map(|p| Circle::new(p, 4, col.stroke_width(1))),
+                )
+                .map_err(e)?,
+        };
+        if let Some(label) = &s.label {
+            let style = s.style;
+            anno.label(label.as_str()).legend(
+                move |(x, y)| -> DynElement<'static, DB, (i32, i32)> {
+                    match style {
+                        Style::Points => Circle::new((x + 10, y), 4, col.filled()).into_dyn(),
+                        Style::HollowPoints => {
+                            Circle::new((x + 10, y), 4, col.stroke_width(1)).into_dyn()
+                        }
+                        Style::Dashed => {
+                            PathElement::new(vec![(x, y), (x + 8, y)], col.stroke_width(2))
+                                .into_dyn()
+                        }
+                        Style::Line => {
+                            PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
+                                .into_dyn()
+                        }
+                    }
+                },
+            );
+        }
+    }
+    if c.series.iter().any(|s| s.label.is_some()) {
+        let pos = match c.legend {
+            LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+            LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+            LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+            LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+        };
+        chart
+            .configure_series_labels()
+            .position(pos)
+            .margin(12)
+            .label_font(("sans-serif", 15))
+            .background_style(WHITE.mix(0.88))
+            .border_style(RGBColor(160, 160, 160))
+            .draw()
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Step-function points of a CDF from `x_start` to `x_end` (left-continuous drawing).
+pub fn step_points(curve: &[(f64, f64)], x_start: f64, x_end: f64) -> Vec<(f64, f64)> {
+    let mut pts = vec![(x_start, 0.0)];
+    let mut last = 0.0;
+    for &(t, f) in curve {
+        pts.push((t, last));
+        pts.push((t, f));
+        last = f;
+    }
+    pts.push((x_end.max(curve.last().map_or(x_start, |c| c.0)), last));
+    pts
+}
+
+/// A file-name-safe version of a label.
+pub fn slug(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars() {
+        if c.is_ascii_alphanumeric() || c == '.' || c == '-' || c == '_' {
+            out.push(c);
+        } else if c == '=' {
+            out.push('-');
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.trim_matches('_').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_and_slugs() {
+        assert_eq!(tick(0.5), "0.5");
+        assert_eq!(tick(12.0), "12");
+        assert_eq!(tick(25000.0), "25k");
+        assert_eq!(tick(2.5e6), "2.5M");
+        assert_eq!(tick(1e10), "1e10");
+        assert_eq!(tick(0.0045), "0.0045");
+        assert_eq!(tick(0.0035), "0.0035");
+        assert_eq!(tick(3.5), "3.5");
+        assert_eq!(log_tick(100.0), "100");
+        assert_eq!(log_tick(20.0), "20");
+        assert_eq!(log_tick(5e-4), "5e-4");
+        assert_eq!(log_tick(90.0), "");
+        assert_eq!(log_tick(0.003), "");
+        assert_eq!(slug("AED phi=1.2"), "AED_phi-1.2");
+        let s = step_points(&[(1.0, 0.5), (2.0, 1.0)], 0.5, 3.0);
+        assert_eq!(
+            s,
+            vec![
+                (0.5, 0.0),
+                (1.0, 0.0),
+                (1.0, 0.5),
+                (2.0, 0.5),
+                (2.0, 1.0),
+                (3.0, 1.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn draws_png_and_svg() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut c = Chart::new("Test chart", "x", "y");
+        c.x_log = true;
+        c.series.push(Series {
+            label: Some("a".into()),
+            points: vec![(0.1, 0.0), (1.0, 0.5), (10.0, 1.0)],
+            style: Style::Line,
+            color: color(0),
+            band: vec![(0.1, -0.1, 0.1), (10.0, 0.9, 1.1)],
+        });
+        c.vlines.push((5.0, "cutoff".into()));
+        let files = draw(
+            &c,
+            &dir.path().join("t"),
+            &[PlotFormat::Png, PlotFormat::Svg],
+        )
+        .unwrap();
+        assert_eq!(files.len(), 2);
+        let png = std::fs::read(&files[0]).unwrap();
+        assert!(png.len() > 1000 && png.starts_with(b"\x89PNG"));
+        let svg = std::fs::read_to_string(&files[1]).unwrap();
+        assert!(svg.contains("<svg") && svg.contains("Test chart"));
+        // No temporary files left behind.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+    }
+}

@@ -1,0 +1,187 @@
+//! Parsers of flag values, shared by every command: one for `NAME=VALUE` assignments, one for
+//! parameter sets (`tuning`, JSON or `@FILE`), one for lobes, and one for the library's enums
+//! (by their serde names, so no enum is mirrored here).
+
+use brdf_model::{BrdfParams, Lobe};
+use serde::de::DeserializeOwned;
+
+/// A library enum by its serde name (`anisotropic`, `log1p`, `green`, ...).
+pub fn enum_value<T: DeserializeOwned>(s: &str) -> Result<T, String> {
+    use serde::de::IntoDeserializer;
+    let de: serde::de::value::StrDeserializer<'_, serde::de::value::Error> =
+        s.trim().into_deserializer();
+    T::deserialize(de).map_err(|e| e.to_string())
+}
+
+/// Splits `NAME=VALUE` at the first `=`; both sides trimmed, the name non-empty.
+pub fn assignment(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
+        _ => Err(format!("`{s}`: expected NAME=VALUE")),
+    }
+}
+
+/// A finite number.
+pub fn finite(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("`{s}`: expected a finite number, found {v}")),
+        Err(_) => Err(format!("`{s}`: expected a number")),
+    }
+}
+
+/// `NAME=NUMBER`, e.g. `lobe1.pan=45` (for `--fix`).
+pub fn named_number(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = assignment(s)?;
+    Ok((k, finite(&v)?))
+}
+
+/// `NAME=VALUE` with a TOML value (`phi=1.2`, `on_failure=restart`; a bare word is a string),
+/// for `--set`.
+pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {
+    let (k, v) = assignment(s)?;
+    let doc: toml::Table = toml::from_str(&format!("v = {v}"))
+        .or_else(|_| toml::from_str(&format!("v = {}", toml::Value::String(v.clone()))))
+        .map_err(|_| format!("`{s}`: `{v}` is not a TOML value"))?;
+    let value = doc
+        .get("v")
+        .cloned()
+        .ok_or_else(|| format!("`{s}`: no value"))?;
+    if let toml::Value::Float(f) = value
+        && !f.is_finite()
+    {
+        return Err(format!("`{s}`: expected a finite number, found {f}"));
+    }
+    Ok((k, value))
+}
+
+/// A parameter set: a paper name (`tuning`, `cross`, ...), JSON as printed on the `json:` line
+/// of `brdf-sls fit`, or `@FILE` holding such JSON. The result is checked against the model's
+/// box (finite values, Table 1 bounds).
+pub fn params(s: &str) -> Result<BrdfParams, String> {
+    let s = s.trim();
+    let p = if let Some(n) = brdf_model::named_params(s) {
+        n
+    } else if let Some(file) = s.strip_prefix('@') {
+        let text = read_small_file(file)?;
+        serde_json::from_str::<BrdfParams>(text.trim()).map_err(|e| {
+            format!("{file}: not JSON parameters as printed by `brdf-sls fit` ({e})")
+        })?
+    } else {
+        serde_json::from_str::<BrdfParams>(s).map_err(|e| {
+            format!(
+                "`{s}`: not a known name ({}) nor JSON parameters such as \
+                 {{\"kd\":0.15,\"lobes\":[{{\"cx\":-1,\"cy\":0.8,\"cz\":0.96,\"n\":20,\"pan_deg\":45}}]}} ({e})",
+                brdf_model::NAMED_PARAMS.join(", ")
+            )
+        })?
+    };
+    p.validate().map_err(|e| format!("`{s}`: {e}"))?;
+    Ok(p)
+}
+
+/// Reads a parameter file, refusing anything larger than a parameter set could be.
+fn read_small_file(file: &str) -> Result<String, String> {
+    use std::io::Read;
+    const MAX: u64 = 1 << 20;
+    let f = std::fs::File::open(file).map_err(|e| format!("{file}: {e}"))?;
+    let mut text = String::new();
+    f.take(MAX + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| format!("{file}: {e}"))?;
+    if text.len() as u64 > MAX {
+        return Err(format!(
+            "{file}: larger than {MAX} bytes; not a parameter file"
+        ));
+    }
+    Ok(text)
+}
+
+/// A lobe `CX,CY,CZ,N[,PAN_DEG]`.
+pub fn lobe(s: &str) -> Result<Lobe, String> {
+    let v: Vec<f64> = s.split(',').map(finite).collect::<Result<_, _>>()?;
+    if !(v.len() == 4 || v.len() == 5) {
+        return Err(format!(
+            "`{s}`: expected 4 or 5 numbers CX,CY,CZ,N[,PAN], found {}",
+            v.len()
+        ));
+    }
+    Ok(Lobe {
+        cx: v[0],
+        cy: v[1],
+        cz: v[2],
+        n: v[3],
+        pan_deg: v.get(4).copied().unwrap_or(0.0),
+    })
+}
+
+/// Three comma-separated numbers (a point or a colour) as a command-line value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triple(pub [f64; 3]);
+
+impl std::str::FromStr for Triple {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let parts: Vec<&str> = s.split(',').collect();
+        if parts.len() != 3 {
+            return Err(format!(
+                "expected three comma-separated numbers X,Y,Z, got `{s}`"
+            ));
+        }
+        let mut v = [0.0; 3];
+        for (slot, p) in v.iter_mut().zip(&parts) {
+            *slot = finite(p)?;
+        }
+        Ok(Triple(v))
+    }
+}
+
+impl std::fmt::Display for Triple {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{},{}", self.0[0], self.0[1], self.0[2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn assignments_and_numbers() {
+        assert_eq!(
+            named_number("lobe1.pan = 45").unwrap(),
+            ("lobe1.pan".into(), 45.0)
+        );
+        assert!(named_number("lobe1.pan").is_err());
+        assert!(named_number("=3").is_err());
+        assert!(named_number("kd=nan").unwrap_err().contains("finite"));
+        assert_eq!(
+            named_toml("on_failure=restart").unwrap().1,
+            toml::Value::String("restart".into())
+        );
+        assert_eq!(named_toml("phi=1.5").unwrap().1, toml::Value::Float(1.5));
+        assert!(named_toml("phi=inf").is_err());
+    }
+
+    #[test]
+    fn params_lobes_and_enums() {
+        assert!(params("tuning").is_ok());
+        assert!(params("{\"kd\":0.1,\"lobes\":[]}").is_ok());
+        assert!(
+            params("{\"kd\":2,\"lobes\":[]}").is_err(),
+            "kd outside the box"
+        );
+        assert!(params("tunning").unwrap_err().contains("tuning"));
+        assert_eq!(lobe("-1,0.8,0.96,20,45").unwrap().pan_deg, 45.0);
+        assert!(lobe("1,2,3").is_err());
+        assert!(lobe("1,2,3,nan").is_err());
+        assert_eq!(
+            enum_value::<brdf_model::LobeKind>("isotropic").unwrap(),
+            brdf_model::LobeKind::Isotropic
+        );
+        assert!(enum_value::<brdf_model::LobeKind>("round").is_err());
+        assert!("1,2".parse::<Triple>().is_err());
+        assert_eq!("1,2,3".parse::<Triple>().unwrap(), Triple([1.0, 2.0, 3.0]));
+    }
+}

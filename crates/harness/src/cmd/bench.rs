@@ -1,0 +1,260 @@
+//! `brdf-sls bench`: in one run, the evaluation kernels' cost per lobe-sample against the
+//! machine's measured arithmetic peak, and the searches' time and evaluations to target on the
+//! paper's tuning (T2) and cross (T3) instances. Written as bench.md and bench.json.
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::{Context, Result};
+use brdf_model::{Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
+use cpu_time::ThreadTime;
+use serde::Serialize;
+
+use super::{bail_input, note, say};
+use crate::cli::BenchArgs;
+
+/// Floating-point operations of one lobe-sample of values, counted in the generic loop: the
+/// rotated dot product (4 multiplies, 3 adds), the clamp, `ln d` and `exp(n ln d)` (about 16
+/// operations each in the branch-free polynomials), the multiply by n and the accumulation.
+/// An estimate: it states what "the arithmetic limit" below means.
+const FLOPS_PER_VALUE: f64 = 42.0;
+
+/// Kernel cost of one kernel.
+#[derive(Serialize)]
+struct KernelRow {
+    kernel: String,
+    values_ns: f64,
+    jacobian_ns: f64,
+    /// `FLOPS_PER_VALUE / peak` divided by the measured time: 1 would be at the machine's peak.
+    values_share_of_peak: f64,
+}
+
+/// Search results on one instance.
+#[derive(Serialize)]
+struct SearchRow {
+    instance: String,
+    algorithm: String,
+    reached: usize,
+    trials: usize,
+    median_cpu_ms: Option<f64>,
+    median_evaluations: Option<f64>,
+    median_evaluations_computed: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct BenchReport {
+    program_version: String,
+    cpu: String,
+    peak_gflops_per_core: f64,
+    flops_per_value: f64,
+    kernels: Vec<KernelRow>,
+    searches: Vec<SearchRow>,
+    seeds: u64,
+    cutoff_cpu_seconds: f64,
+}
+
+/// `brdf-sls bench`.
+pub fn bench(a: BenchArgs) -> Result<()> {
+    if a.seeds == 0 || a.seeds > 10_000 {
+        bail_input!("--seeds {}: expected 1 to 10000", a.seeds);
+    }
+    if !(a.cutoff > 0.0 && a.cutoff.is_finite()) {
+        bail_input!(
+            "--cutoff {}: expected a positive number of CPU seconds",
+            a.cutoff
+        );
+    }
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join("bench"));
+    note!("measuring the arithmetic peak of one core ...");
+    let peak = peak_gflops();
+    note!("measuring the kernels ...");
+    let kernels = kernel_rows(peak)?;
+    note!("running the searches ({} seeds each) ...", a.seeds);
+    let searches = search_rows(a.seeds, a.cutoff)?;
+    let report = BenchReport {
+        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        cpu: harness::machine::MachineInfo::current(1).cpu_model,
+        peak_gflops_per_core: peak,
+        flops_per_value: FLOPS_PER_VALUE,
+        kernels,
+        searches,
+        seeds: a.seeds,
+        cutoff_cpu_seconds: a.cutoff,
+    };
+    let md = markdown(&report);
+    harness::store::write_atomic(&out.join("bench.md"), md.as_bytes())
+        .with_context(|| format!("writing {}", out.join("bench.md").display()))?;
+    let json = serde_json::to_string_pretty(&report).context("serialising the report")?;
+    harness::store::write_atomic(&out.join("bench.json"), json.as_bytes())
+        .with_context(|| format!("writing {}", out.join("bench.json").display()))?;
+    say!("{md}");
+    say!("wrote bench.md and bench.json to {}", out.display());
+    Ok(())
+}
+
+/// Median of `reps` timings of `f` in thread CPU nanoseconds per `units`.
+fn cpu_ns_per(units: f64, f: &mut dyn FnMut()) -> f64 {
+    let start = ThreadTime::now();
+    f();
+    let one = start.elapsed().as_secs_f64().max(1e-7);
+    // Batches of about 0.1 s: the thread clock advances in scheduler ticks.
+    let reps = ((0.1 / one) as usize).clamp(1, 1_000_000);
+    let mut t: Vec<f64> = (0..5)
+        .map(|_| {
+            let s = ThreadTime::now();
+            for _ in 0..reps {
+                f();
+            }
+            s.elapsed().as_secs_f64() * 1e9 / (reps as f64 * units)
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// Double-precision GFLOP/s of one core on independent multiply-add chains (what the
+/// compiler makes of `a * b + c` on this build's target: the baseline's SSE2, two lanes).
+fn peak_gflops() -> f64 {
+    const CHAINS: usize = 16;
+    const STEPS: usize = 100_000;
+    let mut acc = [1.0f64; CHAINS];
+    let (m, c) = (black_box(0.999_999_9), black_box(1e-9));
+    let ns = cpu_ns_per((CHAINS * STEPS * 2) as f64, &mut || {
+        for _ in 0..STEPS {
+            for a in acc.iter_mut() {
+                *a = *a * m + c;
+            }
+        }
+        black_box(&acc);
+    });
+    1.0 / ns
+}
+
+/// ns per lobe-sample of every kernel the machine runs, 1 anisotropic lobe, 10000 samples.
+fn kernel_rows(peak: f64) -> Result<Vec<KernelRow>> {
+    const M: usize = 10_000;
+    let params = named_params("tuning").context("named parameters")?;
+    let data = synthetic(&params, M, 0.1, 42);
+    let layout = Layout::builder(&[LobeKind::Anisotropic]).build()?;
+    let x = layout.encode(&params);
+    let mut r = vec![0.0; M];
+    let mut jac = vec![0.0; M * layout.dim()];
+    Ok(Kernel::available()
+        .into_iter()
+        .filter(|k| *k != Kernel::Auto)
+        .filter_map(|k| {
+            let mut ev = Evaluator::with_kernel(&layout, k).ok()?;
+            let values_ns = cpu_ns_per(M as f64, &mut || {
+                black_box(ev.residuals(black_box(&x), &data, &mut r));
+            });
+            let jacobian_ns = cpu_ns_per(M as f64, &mut || {
+                black_box(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac));
+            });
+            Some(KernelRow {
+                kernel: k.to_string(),
+                values_ns,
+                jacobian_ns,
+                values_share_of_peak: FLOPS_PER_VALUE / peak / values_ns,
+            })
+        })
+        .collect())
+}
+
+/// AED, AERS and RPLS on T2 (target 0.11) and T3 (cross, target 0.1), the paper's defaults.
+fn search_rows(seeds: u64, cutoff: f64) -> Result<Vec<SearchRow>> {
+    let mut rows = Vec::new();
+    for (instance, target) in [("tuning", 0.11), ("cross", 0.1)] {
+        let params = named_params(instance).context("named parameters")?;
+        let data = Arc::new(brdf_model::try_synthetic(&params, 10_000, 0.1, 1)?);
+        let kinds = vec![LobeKind::Anisotropic; params.lobes.len()];
+        let layout = Layout::builder(&kinds).build()?;
+        let objective = sls::BrdfObjective::new(data, layout);
+        for kind in ["aed", "aers", "rpls"] {
+            let config = sls::AlgorithmConfig::default_for(kind).context("algorithm")?;
+            let budget = sls::Budget {
+                cpu_seconds: Some(cutoff),
+                sample_evaluations: None,
+            };
+            let results: Vec<_> = (0..seeds)
+                .map(|s| sls::run_trial(&objective, &config, 1000 + s, budget, target))
+                .collect();
+            let reached: Vec<_> = results.iter().filter_map(|r| r.reached_at).collect();
+            let median = |mut v: Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                // Censored runs count as +inf: the median exists when half reached.
+                (2 * v.len() > results.len()).then(|| v[(results.len() - 1) / 2])
+            };
+            rows.push(SearchRow {
+                instance: instance.to_string(),
+                algorithm: kind.to_uppercase(),
+                reached: reached.len(),
+                trials: results.len(),
+                median_cpu_ms: median(reached.iter().map(|s| s.cpu_seconds * 1e3).collect()),
+                median_evaluations: median(
+                    reached
+                        .iter()
+                        .map(|s| s.evaluations.total() as f64)
+                        .collect(),
+                ),
+                median_evaluations_computed: median(
+                    reached
+                        .iter()
+                        .map(|s| s.evaluations.total_computed() as f64)
+                        .collect(),
+                ),
+            });
+        }
+    }
+    Ok(rows)
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "-".into(), |x| format!("{x:.digits$}"))
+}
+
+fn markdown(r: &BenchReport) -> String {
+    let mut s = format!(
+        "# brdf-sls bench\n\nbrdf-sls {}, {}, one thread. Peak of one core: {:.2} GFLOP/s \
+         (double precision, independent multiply-add chains). A lobe-sample of values is counted \
+         as {} floating-point operations, so the arithmetic limit is {:.2} ns per lobe-sample.\n\n\
+         | kernel | values ns/lobe-sample | values + Jacobian ns/lobe-sample | share of the limit |\n\
+         |---|---|---|---|\n",
+        r.program_version,
+        r.cpu,
+        r.peak_gflops_per_core,
+        r.flops_per_value,
+        r.flops_per_value / r.peak_gflops_per_core
+    );
+    for k in &r.kernels {
+        s.push_str(&format!(
+            "| {} | {:.2} | {:.2} | {:.2} |\n",
+            k.kernel, k.values_ns, k.jacobian_ns, k.values_share_of_peak
+        ));
+    }
+    s.push_str(&format!(
+        "\nSearches: paper defaults, log1p exponent coordinate with log-uniform starts, 10000 \
+         samples with noise 0.1 (instance seed 1), {} seeds, CPU cutoff {} s; medians over all \
+         trials (censored = +inf). Evaluations in the paper's count (whole full-data RMSEs) and as \
+         computed (full-data checks stopped early).\n\n\
+         | instance | algorithm | reached | median CPU ms | median evaluations | median computed |\n\
+         |---|---|---|---|---|---|\n",
+        r.seeds, r.cutoff_cpu_seconds
+    ));
+    for x in &r.searches {
+        s.push_str(&format!(
+            "| {} | {} | {}/{} | {} | {} | {} |\n",
+            x.instance,
+            x.algorithm,
+            x.reached,
+            x.trials,
+            opt(x.median_cpu_ms, 3),
+            opt(x.median_evaluations, 0),
+            opt(x.median_evaluations_computed, 0)
+        ));
+    }
+    s
+}

@@ -1,0 +1,32 @@
+//! `brdf-sls check`: validate a spec and print its plan.
+
+use anyhow::Result;
+use harness::run::default_threads;
+
+use super::shared::{default_out, load_spec};
+use super::{input_error, say};
+use crate::cli::CheckArgs;
+
+/// `brdf-sls check`.
+pub fn check(a: CheckArgs) -> Result<()> {
+    let spec = load_spec(&a.spec)?;
+    let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
+    say!("{}", spec.describe(threads).trim_end());
+    for i in &spec.instances {
+        if let harness::spec::Source::File { resolved, .. } = &i.source
+            && !resolved.exists()
+        {
+            return Err(input_error(format!(
+                "instance `{}`: data file {} does not exist",
+                i.name,
+                resolved.display()
+            )));
+        }
+    }
+    say!("fingerprint {}", spec.fingerprint());
+    say!(
+        "default results directory: {}",
+        default_out(Some(&a.spec)).display()
+    );
+    Ok(())
+}

@@ -1,0 +1,135 @@
+//! The commands: one file each, and [`shared`] for what several of them need. Each command
+//! takes its parsed flags and returns `anyhow::Result`; [`exit_code`] turns the outcome into a
+//! Unix exit status.
+
+use std::io::Write;
+
+use crate::cli::Command;
+
+mod bench;
+mod check;
+mod data;
+mod fit;
+mod merge;
+mod polar;
+mod render;
+mod results;
+mod run;
+pub mod shared;
+mod slurm;
+mod stress;
+mod trial;
+mod tune;
+
+/// Runs one command.
+pub fn dispatch(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Run(a) => run::run(a),
+        Command::Check(a) => check::check(a),
+        Command::Plot(a) => results::results(a, true),
+        Command::Stats(a) => results::results(a, false),
+        Command::Fit(a) => fit::fit(a),
+        Command::Gen(a) => data::generate(a),
+        Command::Eval(a) => data::eval(a),
+        Command::Info(a) => data::info(a),
+        Command::Render(a) => render::render(a),
+        Command::Polar(a) => polar::polar(a),
+        Command::Merge(a) => merge::merge(a),
+        Command::Slurm(a) => slurm::slurm(a),
+        Command::Trial(a) => trial::trial(a),
+        Command::Tune(a) => tune::tune(a),
+        Command::Stress(a) => stress::stress(a),
+        Command::Bench(a) => bench::bench(a),
+    }
+}
+
+/// Bad input from the user (flags, a spec, a data file): exit status 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct InputError(pub String);
+
+/// An [`InputError`] as an `anyhow::Error`.
+pub fn input_error(message: impl Into<String>) -> anyhow::Error {
+    InputError(message.into()).into()
+}
+
+/// True when the error (or one of its causes) is a closed pipe on our output.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// True when the error comes from the user's input rather than from running.
+fn is_input_error(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.is::<InputError>()
+            || c.is::<harness::spec::SpecError>()
+            || c.is::<brdf_model::DataError>()
+            || c.is::<brdf_model::ModelError>()
+            || c.is::<brdf_model::ParamError>()
+            || c.is::<sls::ConfigError>()
+            || c.is::<brdf_model::KernelError>()
+            || matches!(
+                c.downcast_ref::<harness::run::RunError>(),
+                Some(harness::run::RunError::ShardMismatch { .. })
+            )
+            || c.downcast_ref::<harness::merge::MergeError>()
+                .is_some_and(|m| m.is_input_error())
+            || matches!(
+                c.downcast_ref::<harness::store::StoreError>(),
+                Some(
+                    harness::store::StoreError::FingerprintMismatch { .. }
+                        | harness::store::StoreError::DataChanged { .. }
+                )
+            )
+    })
+}
+
+/// The exit status of a failed command: 0 for a closed output pipe (the reader has what it
+/// wanted), 2 for bad input, 1 for failures while running.
+pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if is_broken_pipe(e) {
+        0
+    } else if is_input_error(e) {
+        2
+    } else {
+        1
+    }
+}
+
+/// Returns an [`InputError`] (exit status 2) built like `format!`.
+macro_rules! bail_input {
+    ($($arg:tt)*) => {
+        return Err($crate::cmd::input_error(format!($($arg)*)))
+    };
+}
+pub(crate) use bail_input;
+
+/// Writes a line to standard output, returning the error (a closed pipe ends the command
+/// quietly, see [`exit_code`]) instead of panicking as `println!` does.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)
+            .map_err(|e| anyhow::Error::new(e).context("writing to standard output"))?
+    }};
+}
+pub(crate) use say;
+
+/// Writes a line to standard error, ignoring failures: diagnostics must never stop the work.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+pub(crate) use note;
+
+/// Flushes standard output (buffered writers report a closed pipe only here).
+pub fn flush_stdout() -> anyhow::Result<()> {
+    std::io::stdout()
+        .flush()
+        .map_err(|e| anyhow::Error::new(e).context("writing to standard output"))
+}

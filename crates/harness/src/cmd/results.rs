@@ -1,0 +1,86 @@
+//! `brdf-sls stats` and `brdf-sls plot`: statistics and plots of stored results.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use harness::spec::Spec;
+use harness::store::read_results;
+
+use super::shared::{default_out, load_spec};
+use super::{input_error, note, say};
+use crate::cli::ResultsArgs;
+
+/// `brdf-sls plot` (`plots` true) and `brdf-sls stats`.
+pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
+    if plots && a.print_only {
+        return Err(input_error(
+            "--print-only belongs to `stats`; `plot` writes plots",
+        ));
+    }
+    let target = a.target.clone().unwrap_or_else(|| default_out(None));
+    let is_spec = target.extension().is_some_and(|e| e == "toml");
+    let (spec, dir) = if is_spec {
+        let spec = load_spec(&target)?;
+        let dir = a.out.clone().unwrap_or_else(|| default_out(Some(&target)));
+        (Some(spec), dir)
+    } else {
+        let dir = if target.is_dir() {
+            target.clone()
+        } else {
+            match target.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => Path::new(".").to_path_buf(),
+            }
+        };
+        (None, dir)
+    };
+    let contents =
+        read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
+    let spec = match spec {
+        Some(s) => {
+            if s.fingerprint() != contents.header.fingerprint {
+                return Err(input_error(format!(
+                    "{} was written by a different spec (fingerprint {} vs {}): pass the spec that produced it, or the results directory alone",
+                    dir.display(),
+                    contents.header.fingerprint,
+                    s.fingerprint()
+                )));
+            }
+            s
+        }
+        None => {
+            if contents.current_spec_text().is_empty() {
+                return Err(input_error(format!(
+                    "{}: the header holds no spec text; pass the spec file",
+                    dir.display()
+                )));
+            }
+            Spec::parse(
+                contents.current_spec_text(),
+                &format!("{} (stored spec)", dir.display()),
+                &contents.header.experiment,
+                &dir,
+            )?
+        }
+    };
+    if let Some(t) = &contents.torn {
+        note!("note: ignoring a torn last line ({} bytes)", t.len());
+    }
+    let planned = spec.trials_plan().len();
+    let present = harness::report::plan_records(&spec, &contents.records).len();
+    if present < planned {
+        note!(
+            "note: partial results: {present} of {planned} trials present (run the spec again to resume)"
+        );
+    }
+    if a.print_only {
+        let stats = harness::report::compute_stats(&spec, &contents.records);
+        say!("{}", harness::stats::table(&stats));
+        return Ok(());
+    }
+    let report =
+        harness::report::write_report(&spec, &contents.records, &contents.sessions, &dir, plots)?;
+    say!("{}", report.table);
+    say!("wrote {} files to {}", report.files.len(), dir.display());
+    Ok(())
+}

@@ -1,0 +1,59 @@
+//! Stage 4: the trial plan and the fingerprint that guards a results file.
+
+use super::{PlannedTrial, Spec};
+use crate::seed::{fingerprint, trial_seed};
+
+impl Spec {
+    /// The canonical form of everything that determines trial results (see the module docs).
+    pub fn canonical(&self) -> serde_json::Value {
+        let instances: Vec<serde_json::Value> = self
+            .instances
+            .iter()
+            .map(|i| {
+                serde_json::json!({
+                    "name": i.name,
+                    "run_target": i.run_target(),
+                    "source": i.source,
+                    "model": i.model,
+                })
+            })
+            .collect();
+        let configs: Vec<serde_json::Value> = self
+            .configurations
+            .iter()
+            .map(|c| serde_json::json!({"label": c.label, "algorithm": c.algorithm}))
+            .collect();
+        serde_json::json!({
+            "seed": self.seed,
+            "budget": self.budget,
+            "instances": instances,
+            "configurations": configs,
+        })
+    }
+
+    /// Fingerprint of [`Spec::canonical`] (serde_json with sorted keys, hashed by
+    /// [`crate::seed::fingerprint`]).
+    pub fn fingerprint(&self) -> String {
+        fingerprint(&self.canonical().to_string())
+    }
+
+    /// Every trial of the plan, interleaved (trial index outermost) so that partial results
+    /// cover every configuration evenly.
+    pub fn trials_plan(&self) -> Vec<PlannedTrial> {
+        let mut out = Vec::new();
+        for trial in 0..self.trials {
+            for (ii, inst) in self.instances.iter().enumerate() {
+                for (ci, cfg) in self.configurations.iter().enumerate() {
+                    out.push(PlannedTrial {
+                        instance: ii,
+                        config: ci,
+                        trial,
+                        seed: trial_seed(self.seed, &inst.name, &cfg.label, trial),
+                        key: crate::store::TrialRecord::make_key(&inst.name, &cfg.label, trial),
+                    });
+                }
+            }
+        }
+        out
+    }
+}

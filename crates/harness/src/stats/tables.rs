@@ -1,0 +1,229 @@
+//! The statistics as CSV files and as the table printed after a run.
+
+use super::{Measure, PairTest, StatsReport};
+
+/// An optional statistic: empty when there is none (no test was possible).
+fn opt_none(v: Option<f64>) -> String {
+    v.map_or_else(String::new, |x| format!("{x}"))
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or_else(|| "inf".to_string(), |x| format!("{x}"))
+}
+
+/// The per-configuration statistics as CSV (one row per instance, configuration, target, measure).
+pub fn configs_csv(report: &StatsReport) -> String {
+    let mut s = String::from(
+        "instance,config,target,measure,trials,successes,success_rate,q10,q25,q50,q75,q90,ert,ert_sd,ert_p10,ert_p50,ert_p90,restart_p10,restart_p50,restart_p90,km_censoring\n",
+    );
+    for c in &report.configs {
+        for (m, ms) in [
+            (Measure::CpuSeconds, &c.cpu),
+            (Measure::Evaluations, &c.evaluations),
+        ] {
+            let q: Vec<String> = ms.quantiles.iter().map(|v| opt(*v)).collect();
+            let r = ms.restarts.map_or([None; 3], |r| r.map(Some));
+            let fields = [
+                csv_field(&c.instance),
+                csv_field(&c.config),
+                c.target.to_string(),
+                m.short().to_string(),
+                ms.trials.to_string(),
+                ms.successes.to_string(),
+                ms.success_rate.to_string(),
+                q.join(","),
+                opt(ms.ert),
+                opt(ms.ert_sd),
+                opt(ms.ert_p10),
+                opt(ms.ert_p50),
+                opt(ms.ert_p90),
+                opt(r[0]),
+                opt(r[1]),
+                opt(r[2]),
+                ms.km_censoring.to_string(),
+            ];
+            s.push_str(&fields.join(","));
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// The pairwise tests as CSV.
+pub fn tests_csv(report: &StatsReport) -> String {
+    let mut s = String::from(
+        "instance,target,measure,a,b,mw_u,mw_p,mw_p_holm,ks_d,ks_p,ks_p_holm,a_dominates,b_dominates,lr_chi2,lr_p,lr_p_holm,lr_hazard_ratio\n",
+    );
+    for t in &report.tests {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            csv_field(&t.instance),
+            t.target,
+            t.measure.short(),
+            csv_field(&t.a),
+            csv_field(&t.b),
+            opt(t.mw_u),
+            opt(t.mw_p),
+            opt(t.mw_p_holm),
+            opt(t.ks_d),
+            opt(t.ks_p),
+            opt(t.ks_p_holm),
+            t.a_dominates,
+            t.b_dominates,
+            opt_none(t.lr_chi2),
+            opt_none(t.lr_p),
+            opt_none(t.lr_p_holm),
+            opt(t.lr_hazard_ratio)
+        ));
+    }
+    s
+}
+
+/// Quotes a CSV field when needed.
+pub fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Formats a number compactly for tables (`-` for none).
+pub fn fmt_num(v: Option<f64>) -> String {
+    match v {
+        None => "-".into(),
+        Some(0.0) => "0".into(),
+        Some(x) if x.abs() >= 1e5 => format!("{x:.3e}"),
+        Some(x) if x.abs() >= 100.0 => format!("{x:.0}"),
+        Some(x) if x.abs() >= 1.0 => format!("{x:.2}"),
+        Some(x) if x.abs() < 1e-4 => format!("{x:.2e}"),
+        // Three significant digits below 1 (run times of a few milliseconds are common).
+        Some(x) => {
+            let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+            format!("{x:.decimals$}")
+        }
+    }
+}
+
+/// A plain-text table of the statistics, one block per instance and target.
+pub fn table(report: &StatsReport) -> String {
+    let mut out = String::new();
+    let mut last: Option<(&str, f64)> = None;
+    let width = report
+        .configs
+        .iter()
+        .map(|c| c.config.len())
+        .max()
+        .unwrap_or(6)
+        .max(13);
+    for c in &report.configs {
+        if last != Some((c.instance.as_str(), c.target)) {
+            out.push_str(&format!(
+                "\n{} - target RMSE {}\n{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
+                c.instance,
+                c.target,
+                "configuration",
+                "success",
+                "q25 s",
+                "median s",
+                "q75 s",
+                "ERT s",
+                "ERT 10-90% s",
+                "med evals",
+                "ERT evals",
+            ));
+            last = Some((c.instance.as_str(), c.target));
+        }
+        let m = &c.cpu;
+        let band = match (m.ert_p10, m.ert_p90) {
+            (Some(a), Some(b)) => format!("[{}, {}]", fmt_num(Some(a)), fmt_num(Some(b))),
+            _ => "-".into(),
+        };
+        out.push_str(&format!(
+            "{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
+            c.config,
+            format!("{}/{}", m.successes, m.trials),
+            fmt_num(m.quantiles[1]),
+            fmt_num(m.quantiles[2]),
+            fmt_num(m.quantiles[3]),
+            fmt_num(m.ert),
+            band,
+            fmt_num(c.evaluations.quantiles[2]),
+            fmt_num(c.evaluations.ert),
+        ));
+    }
+    out.push_str(&finals_table(report, width));
+    let sig: Vec<&PairTest> = report
+        .tests
+        .iter()
+        .filter(|t| t.measure == Measure::CpuSeconds)
+        .collect();
+    if sig.len() > 30 {
+        out.push_str(&format!(
+            "\n{} pairwise tests (Mann-Whitney, KS, log-rank, Holm-adjusted): see tests.csv\n",
+            sig.len()
+        ));
+    } else if !sig.is_empty() {
+        out.push_str("\nPairwise (CPU time; Holm-adjusted p-values; censored runs = +inf)\n");
+        for t in sig {
+            let dom = if t.a_dominates {
+                format!("{} dominates", t.a)
+            } else if t.b_dominates {
+                format!("{} dominates", t.b)
+            } else {
+                "curves cross".into()
+            };
+            out.push_str(&format!(
+                "  {} q={}: {} vs {}: Mann-Whitney p={}, KS p={}, log-rank p={} (HR {}), {}\n",
+                t.instance,
+                t.target,
+                t.a,
+                t.b,
+                fmt_p(t.mw_p_holm),
+                fmt_p(t.ks_p_holm),
+                fmt_p(t.lr_p_holm),
+                fmt_num(t.lr_hazard_ratio),
+                dom
+            ));
+        }
+    }
+    out
+}
+
+fn finals_table(report: &StatsReport, width: usize) -> String {
+    let mut out = String::new();
+    let mut last: Option<&str> = None;
+    for q in &report.finals {
+        if last != Some(q.instance.as_str()) {
+            out.push_str(&format!(
+                "\n{} - final RMSE per trial\n{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+                q.instance, "configuration", "trials", "mean", "median", "min", "max", "median end s", "finished"
+            ));
+            last = Some(q.instance.as_str());
+        }
+        let r = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |x| format!("{x:.6}"));
+        out.push_str(&format!(
+            "{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+            q.config,
+            q.trials,
+            r(q.rmse_mean),
+            r(q.rmse_median),
+            r(q.rmse_min),
+            r(q.rmse_max),
+            fmt_num(q.end_cpu_median),
+            q.finished
+        ));
+    }
+    out
+}
+
+fn fmt_p(p: Option<f64>) -> String {
+    match p {
+        None => "-".into(),
+        // statrs computes the asymptotic Mann-Whitney p as 1 - Phi(z), which is exactly 0 once
+        // z > ~8.3: all that is known then is p < ~1e-15.
+        Some(0.0) => "<1e-15".into(),
+        Some(p) if p < 1e-4 => format!("{p:.1e}"),
+        Some(p) => format!("{p:.4}"),
+    }
+}

@@ -1,0 +1,164 @@
+//! The results store across processes: a second run on a folder in use is refused at once,
+//! and runs killed (SIGKILL) at several points resume to exactly the per-trial outcomes of an
+//! uninterrupted run.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use harness::store::read_results;
+
+/// Trials that each spend a fixed evaluation budget (the target 0 is never reached), so every
+/// trial's outcome is a function of its seed alone.
+const SPEC: &str = r#"
+name = "kill"
+seed = 5
+trials = 12
+kernel = "portable"
+
+[budget]
+evaluations = 3000000
+
+[[instance]]
+name = "tuning"
+targets = [0.0]
+[instance.synthetic]
+params = "tuning"
+samples = 1000
+sigma = 0.1
+
+[[algorithm]]
+kind = "aed"
+
+[[algorithm]]
+kind = "rpls"
+"#;
+
+fn command(dir: &Path, out: &str) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_brdf-sls"));
+    c.args([
+        "run",
+        "kill.toml",
+        "--out",
+        out,
+        "--threads",
+        "2",
+        "--no-plots",
+        "--progress",
+        "quiet",
+    ])
+    .current_dir(dir)
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped());
+    c
+}
+
+/// (stop, best RMSE bits, paper's evaluation count) per trial key.
+fn outcomes(dir: &Path) -> BTreeMap<String, (String, u64, u64)> {
+    read_results(dir)
+        .unwrap()
+        .records
+        .into_iter()
+        .map(|r| {
+            (
+                r.key,
+                (
+                    format!("{:?}", r.result.stop),
+                    r.result.best_rmse.to_bits(),
+                    r.result.ended_at.evaluations.total(),
+                ),
+            )
+        })
+        .collect()
+}
+
+fn trial_lines(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join("trials.jsonl"))
+        .map(|t| t.matches("\"type\":\"trial\"").count())
+        .unwrap_or(0)
+}
+
+#[test]
+fn killed_runs_resume_to_the_uninterrupted_outcomes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
+    let o = command(dir, "whole").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let whole = outcomes(&dir.join("whole"));
+    assert_eq!(whole.len(), 24);
+
+    // Kill after 1, 3, 6 and 10 finished trials (and whatever was in flight), then finish.
+    let broken = dir.join("broken");
+    for after in [1, 3, 6, 10] {
+        let mut child = command(dir, "broken").spawn().unwrap();
+        let started = Instant::now();
+        while trial_lines(&broken) < after && started.elapsed() < Duration::from_secs(60) {
+            if child.try_wait().unwrap().is_some() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    let o = command(dir, "broken").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let resumed = outcomes(&broken);
+    assert_eq!(
+        resumed, whole,
+        "resumed outcomes differ from the uninterrupted run"
+    );
+    let c = read_results(&broken).unwrap();
+    assert!(
+        c.duplicates.is_empty(),
+        "duplicate trials: {:?}",
+        c.duplicates
+    );
+    assert!(
+        c.sessions.len() >= 2,
+        "the kills should have left several sessions"
+    );
+}
+
+#[test]
+fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(
+        dir.join("kill.toml"),
+        SPEC.replace("trials = 12", "trials = 40"),
+    )
+    .unwrap();
+    let mut first = command(dir, "shared").spawn().unwrap();
+    let lock = dir.join("shared/.lock");
+    let started = Instant::now();
+    while std::fs::read_to_string(&lock).map_or(true, |t| t.trim().is_empty())
+        && started.elapsed() < Duration::from_secs(60)
+    {
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let t0 = Instant::now();
+    let second = command(dir, "shared").output().unwrap();
+    let waited = t0.elapsed();
+    let first_still_running = first.try_wait().unwrap().is_none();
+    let _ = first.kill();
+    let _ = first.wait();
+    assert!(
+        first_still_running,
+        "the first run ended too soon to test the lock"
+    );
+    let err = String::from_utf8_lossy(&second.stderr);
+    assert_eq!(second.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("in use") && err.contains(&format!("PID {}", first.id())),
+        "{err}"
+    );
+    assert!(
+        waited < Duration::from_secs(10),
+        "the second run waited {waited:?}"
+    );
+    // The folder is intact: every line parses.
+    read_results(&dir.join("shared")).unwrap();
+}

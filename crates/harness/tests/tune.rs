@@ -1,0 +1,413 @@
+//! Tuning with irace: the `[tune]` table, irace's files, the target-runner (`brdf-sls trial`),
+//! elites parsing and the validation spec. Only the last test needs irace; it says why it is
+//! skipped when irace is missing.
+
+use std::path::Path;
+use std::process::Command;
+
+use harness::spec::Spec;
+use harness::tune::irace::{self, parse_elites};
+use harness::tune::validation::validation_spec;
+use harness::tune::{CostKind, ParamType};
+
+/// A tiny tuning spec: 400-sample instances, AED, evaluation cutoffs (deterministic costs).
+const TINY_TUNE: &str = r#"
+name = "tiny-tune"
+seed = 5
+trials = 3
+
+[budget]
+evaluations = 400000
+
+[tune]
+train = ["s3", "s4"]
+test = ["s5"]
+budget = 120
+cost = "evaluations"
+cutoff = 400000
+seed = 2
+parallel = 2
+elites = 2
+validation_trials = 4
+
+[[tune.parameter]]
+name = "phi"
+type = "real"
+range = [1.1, 2.0]
+
+[[tune.parameter]]
+name = "rho0"
+type = "int"
+range = [10, 80]
+log = true
+condition = "phi > 1.2"
+
+[[instance]]
+name = "s3"
+targets = [0.105, 0.12]
+synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 3 }
+
+[[instance]]
+name = "s4"
+targets = [0.105, 0.12]
+synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 4 }
+
+[[instance]]
+name = "s5"
+targets = [0.105, 0.12]
+synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 5 }
+
+[[algorithm]]
+label = "AED"
+kind = "aed"
+
+[plots]
+draw = ["rtd"]
+formats = ["svg"]
+
+[stats]
+bootstrap = 50
+"#;
+
+/// What irace 3.5 prints at the end of a run (trimmed).
+const IRACE_TAIL: &str = "\
+# 2024-01-01 12:00:00 UTC: Elite configurations (first number is the configuration ID; listed from best to worst according to the sum of ranks):
+   phi rho0
+14 1.523   33
+3  1.1     NA
+# Best configurations (first number is the configuration ID; listed from best to worst according to the mean value):
+   phi rho0
+14 1.523   33
+3  1.1     NA
+# Best configurations as commandlines (first number is the configuration ID; same order as above):
+14  --phi 1.523 --rho0 33
+3   --phi 1.1
+";
+
+fn spec() -> Spec {
+    Spec::parse(TINY_TUNE, "tiny-tune.toml", "tiny-tune", Path::new(".")).unwrap()
+}
+
+fn parse_err(text: &str) -> String {
+    Spec::parse(text, "t.toml", "t", Path::new("."))
+        .unwrap_err()
+        .to_string()
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+}
+
+#[test]
+fn tune_table_is_validated() {
+    let s = spec();
+    let t = s.tune.as_ref().expect("[tune] parsed");
+    assert_eq!(t.algorithm, "AED");
+    assert_eq!(t.train, ["s3", "s4"]);
+    assert_eq!(t.cost.kind, CostKind::Evaluations);
+    assert_eq!((t.cost.cutoff, t.cost.penalty), (400000.0, 10.0));
+    assert_eq!(t.parameters[1].kind, ParamType::Int);
+    assert!(t.parameters[1].log);
+    // A spec without [tune] has none, and [tune] does not change the fingerprint.
+    let cut = TINY_TUNE.find("[tune]").unwrap();
+    let end = TINY_TUNE.find("[[instance]]").unwrap();
+    let without = format!("{}{}", &TINY_TUNE[..cut], &TINY_TUNE[end..]);
+    let w = Spec::parse(&without, "t.toml", "t", Path::new(".")).unwrap();
+    assert!(w.tune.is_none());
+    assert_eq!(w.fingerprint(), s.fingerprint());
+
+    for (from, to, expect) in [
+        ("name = \"phi\"", "name = \"psi\"", "not a parameter of aed"),
+        (
+            "test = [\"s5\"]",
+            "test = [\"s4\"]",
+            "also a training instance",
+        ),
+        (
+            "test = [\"s5\"]",
+            "test = [\"s9\"]",
+            "no instance named `s9`",
+        ),
+        (
+            "condition = \"phi > 1.2\"",
+            "condition = \"psi > 1.2\"",
+            "refers to `psi`",
+        ),
+        ("range = [10, 80]", "range = [10.5, 80]", "needs integers"),
+        ("range = [1.1, 2.0]", "range = [0.5, 2.0]", "`phi` must be"),
+        ("range = [1.1, 2.0]", "range = [2.0, 1.1]", "low < high"),
+        ("budget = 120", "budget = 0", "tune.budget"),
+        (
+            "cutoff = 400000",
+            "cutoff = -1",
+            "cutoff must be a positive",
+        ),
+        (
+            "type = \"real\"\nrange = [1.1, 2.0]",
+            "type = \"int\"\nrange = [1, 2]",
+            "not an integer field",
+        ),
+        ("seed = 2", "seeds = 2", "unknown field `seeds`"),
+    ] {
+        assert!(TINY_TUNE.contains(from), "{from}");
+        let e = parse_err(&TINY_TUNE.replacen(from, to, 1));
+        assert!(e.contains(expect), "{from} -> {to}: {e}");
+    }
+    // Without a cutoff, [budget] gives it for evaluations; for time it is missing.
+    let no_cut = TINY_TUNE.replace("cutoff = 400000\n", "");
+    let t = Spec::parse(&no_cut, "t.toml", "t", Path::new("."))
+        .unwrap()
+        .tune
+        .unwrap();
+    assert_eq!(t.cost.cutoff, 400000.0);
+    let e = parse_err(&no_cut.replace("cost = \"evaluations\"", "cost = \"time\""));
+    assert!(e.contains("`tune.cutoff` is needed"), "{e}");
+}
+
+#[test]
+fn irace_files() {
+    let s = spec();
+    let t = s.tune.as_ref().unwrap();
+    let params = irace::parameter_file(t);
+    let lines: Vec<&str> = params.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(lines.len(), 2);
+    assert!(lines[0].starts_with("phi ") && lines[0].contains("\"--phi \" r"));
+    assert!(lines[0].ends_with("(1.1, 2)"), "{}", lines[0]);
+    assert!(lines[1].contains("\"--rho0 \" i,log"), "{}", lines[1]);
+    assert!(lines[1].ends_with("(10, 80) | phi > 1.2"), "{}", lines[1]);
+    assert_eq!(irace::instance_file(t), "s3\ns4\n");
+    let sc = irace::scenario_file(t, Path::new("/x/irace"), 2);
+    for want in [
+        "parameterFile = \"/x/irace/parameters.txt\"",
+        "trainInstancesDir = \"\"",
+        "trainInstancesFile = \"/x/irace/instances.txt\"",
+        "targetRunner = \"/x/irace/target-runner\"",
+        "maxExperiments = 120",
+        "seed = 2",
+        "parallel = 2",
+    ] {
+        assert!(sc.contains(want), "{want} in\n{sc}");
+    }
+    let runner = irace::target_runner(Path::new("/b/brdf-sls"), Path::new("/s/it's.toml"));
+    assert!(runner.starts_with("#!/bin/sh\n"));
+    assert!(runner.contains("exec '/b/brdf-sls' trial --spec '/s/it'\\''s.toml' \"$@\""));
+}
+
+#[test]
+fn elites_and_validation_spec() {
+    let s = spec();
+    let t = s.tune.as_ref().unwrap();
+    let elites = parse_elites(IRACE_TAIL, t).unwrap();
+    assert_eq!(elites.len(), 2);
+    assert_eq!(elites[0].id, 14);
+    assert_eq!(
+        elites[0].values,
+        vec![
+            ("phi".to_string(), toml::Value::Float(1.523)),
+            ("rho0".to_string(), toml::Value::Integer(33))
+        ]
+    );
+    // The conditional rho0 is off in the second elite.
+    assert_eq!(elites[1].values.len(), 1);
+    assert!(
+        parse_elites("# Elitist race\n", t)
+            .unwrap_err()
+            .contains("did irace finish")
+    );
+    let bad = IRACE_TAIL.replace("--rho0 33", "--psi 33");
+    assert!(
+        parse_elites(&bad, t)
+            .unwrap_err()
+            .contains("not a tuned parameter")
+    );
+
+    let text = validation_spec(TINY_TUNE, &s, t, &elites, "tiny-tune-validation").unwrap();
+    let v = Spec::parse(&text, "v.toml", "v", Path::new(".")).unwrap();
+    assert!(v.tune.is_none());
+    assert_eq!(v.instance_names(), ["s5"]);
+    assert_eq!(v.trials, 4);
+    assert_eq!(
+        v.config_labels(),
+        ["AED default", "AED irace-1", "AED irace-2"]
+    );
+    match &v.configurations[1].algorithm {
+        sls::AlgorithmConfig::Aed(a) => assert_eq!((a.phi, a.rho0), (1.523, 33)),
+        other => panic!("{other:?}"),
+    }
+    match &v.configurations[2].algorithm {
+        sls::AlgorithmConfig::Aed(a) => assert_eq!((a.phi, a.rho0), (1.1, 25)),
+        other => panic!("{other:?}"),
+    }
+    assert!(text.contains("irace configuration 14"));
+}
+
+fn write_spec(dir: &Path) -> std::path::PathBuf {
+    let p = dir.join("tiny-tune.toml");
+    std::fs::write(&p, TINY_TUNE).unwrap();
+    p
+}
+
+#[test]
+fn trial_prints_one_cost_and_par10() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = write_spec(dir.path());
+    let run = |extra: &[&str]| {
+        let o = bin()
+            .arg("trial")
+            .arg("--spec")
+            .arg(&spec)
+            .args(extra)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, out, err) = run(&["7", "1", "123", "s3", "--phi", "1.3", "--rho0", "20"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out.lines().count(), 1, "{out}");
+    let cost: f64 = out.trim().parse().unwrap();
+    assert!(cost > 0.0 && cost <= 400000.0, "{cost}");
+    // Deterministic in the seed with an evaluation cutoff.
+    assert_eq!(
+        run(&["7", "1", "123", "s3", "--phi", "1.3", "--rho0", "20"]).1,
+        out
+    );
+    // A cutoff no run can meet: censored, cost 10 x cutoff.
+    let (code, out, _) = run(&["--cutoff", "50", "1", "1", "1", "s3"]);
+    assert_eq!(code, Some(0));
+    assert_eq!(out.trim().parse::<f64>().unwrap(), 500.0);
+    let (_, out, _) = run(&["--cutoff", "50", "--penalty", "3", "1", "1", "1", "s3"]);
+    assert_eq!(out.trim().parse::<f64>().unwrap(), 150.0);
+    // The best RMSE at a budget.
+    let (code, out, err) = run(&["--cost", "rmse", "--cutoff", "0.05", "1", "1", "1", "s3"]);
+    assert_eq!(code, Some(0), "{err}");
+    let rmse: f64 = out.trim().parse().unwrap();
+    assert!(rmse > 0.05 && rmse < 1.0, "{rmse}");
+    // Bad values: a clear message and status 2.
+    for (args, expect) in [
+        (&["1", "1", "1", "s3", "--phi", "0.5"][..], "`phi` must be"),
+        (
+            &["1", "1", "1", "s3", "--psi", "2"][..],
+            "not a parameter of aed",
+        ),
+        (&["1", "1", "1", "nope"][..], "no instance named `nope`"),
+        (&["1", "1", "1", "s3", "--phi"][..], "missing value"),
+        (&["1", "1", "1", "s3", "100", "--phi", "2"][..], "capping"),
+        (&["--cutoff=-1", "1", "1", "1", "s3"][..], "cutoff"),
+    ] {
+        let (code, out, err) = run(args);
+        assert_eq!(code, Some(2), "{args:?}: {out} {err}");
+        assert!(out.is_empty(), "{args:?}: {out}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn tune_dry_run_and_from_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = write_spec(dir.path());
+    let out = dir.path().join("out");
+    let o = bin()
+        .arg("tune")
+        .arg(&spec)
+        .arg("--out")
+        .arg(&out)
+        .arg("--dry-run")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("--scenario"));
+    for f in [
+        "parameters.txt",
+        "instances.txt",
+        "scenario.txt",
+        "target-runner",
+    ] {
+        assert!(out.join("irace").join(f).is_file(), "{f}");
+    }
+    // The target-runner works as irace calls it.
+    let r = Command::new(out.join("irace/target-runner"))
+        .args(["3", "1", "42", "s4", "--phi", "1.5", "--rho0", "30"])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(
+        String::from_utf8_lossy(&r.stdout)
+            .trim()
+            .parse::<f64>()
+            .is_ok()
+    );
+
+    let sample = dir.path().join("irace.out");
+    std::fs::write(&sample, IRACE_TAIL).unwrap();
+    let o = bin()
+        .arg("tune")
+        .arg(&spec)
+        .arg("--out")
+        .arg(&out)
+        .arg("--from-output")
+        .arg(&sample)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let vspec = out.join("tiny-tune-validation.toml");
+    let csv = std::fs::read_to_string(out.join("elites.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some("rank,label,irace_id,phi,rho0"));
+    assert!(csv.contains("2,AED irace-2,3,1.1,NA"), "{csv}");
+    let c = bin().arg("check").arg(&vspec).output().unwrap();
+    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stderr));
+
+    // No [tune] table: status 2.
+    let plain = dir.path().join("plain.toml");
+    let cut = TINY_TUNE.find("[tune]").unwrap();
+    let end = TINY_TUNE.find("[[instance]]").unwrap();
+    std::fs::write(
+        &plain,
+        format!("{}{}", &TINY_TUNE[..cut], &TINY_TUNE[end..]),
+    )
+    .unwrap();
+    let o = bin()
+        .arg("tune")
+        .arg(&plain)
+        .arg("--dry-run")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no [tune] table"));
+}
+
+#[test]
+fn tiny_tuning_with_irace() {
+    let Some(cmd) = irace::find_irace() else {
+        eprintln!(
+            "skipped: irace not found ($IRACE, PATH, R's irace package); scripts/install-irace.sh \
+             installs it"
+        );
+        return;
+    };
+    eprintln!("irace: {}", cmd.display());
+    let dir = tempfile::tempdir().unwrap();
+    let spec = write_spec(dir.path());
+    let out = dir.path().join("out");
+    let o = bin()
+        .arg("tune")
+        .arg(&spec)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.join("elites.csv").is_file());
+    let vspec = out.join("tiny-tune-validation.toml");
+    let v = Spec::from_file(&vspec).unwrap();
+    assert_eq!(v.config_labels()[0], "AED default");
+    assert!(v.config_labels().len() >= 2);
+}
