@@ -3,9 +3,10 @@
 # runs each experiments/fig*.toml into results/<name>/ (resuming what is already there) and
 # renders Figures 8, 12 and 18. About 10 minutes of wall time on 2 cores.
 #
-# The raw results are committed gzipped (results/<name>/trials.jsonl.gz, about 7x smaller);
-# this script unpacks them before a run, so a run resumes, and packs them again after it.
-# To re-plot or resume one experiment by hand: gunzip -k results/<name>/trials.jsonl.gz.
+# The raw results are committed gzipped (results/<name>/trials.jsonl.gz, about 7x smaller).
+# brdf-sls reads the packed file directly and unpacks it itself before resuming; this script
+# packs the results again after each run. (A plain `brdf-sls run SPEC` writes to runs/<name>/,
+# apart from these committed results.)
 #
 #   scripts/reproduce-all.sh            # resume: finished trials are kept, the rest run
 #   scripts/reproduce-all.sh --fresh    # move existing results aside and start over
@@ -25,10 +26,7 @@ for spec in experiments/fig*.toml; do
     echo "== $spec"
     t0=$(date +%s)
     out="results/$(basename "$spec" .toml)"
-    if [[ ! -f "$out/trials.jsonl" && -f "$out/trials.jsonl.gz" ]]; then
-        gunzip -k "$out/trials.jsonl.gz"
-    fi
-    "$bin" run "$spec" "${fresh[@]}" --progress plain
+    "$bin" run "$spec" --out "$out" "${fresh[@]}" --progress plain
     gzip -9 -k -f "$out/trials.jsonl"
     echo "== $spec: $(( $(date +%s) - t0 )) s"
 done
