@@ -34,6 +34,18 @@ fn default_plan_and_fingerprint() {
     );
 }
 
+#[test]
+fn default_data_hash() {
+    // The generated data themselves: a change of the generator's random stream or of the
+    // model changes this, and a resume on such data is refused.
+    let spec = Spec::default_experiment();
+    let built = harness::instance::build(&spec.instances[0]).unwrap();
+    assert_eq!(harness::seed::data_hash(&built.data), DEFAULT_DATA_HASH);
+}
+
+/// [`harness::seed::data_hash`] of the default experiment's instance.
+const DEFAULT_DATA_HASH: &str = "76fb9762eed8b52a";
+
 /// Evaluation counts (residual, Jacobian, RMSE rows; the paper's count) when the target was
 /// reached, for `(configuration, trial)` of the default experiment under `kernel`.
 fn reached(kernel: Kernel, config: &str, trial: u32) -> (u64, u64, u64) {

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use brdf_graphics::ImageFormat;
-use brdf_graphics::chart::{self, Chart, LegendAt, Series};
+use brdf_graphics::chart::{self, Chart, LegendAt, Series, Style};
 use brdf_stress::{NamedData, StressOptions, StressReport};
 use harness::spec::{DataFormat, FileSpec};
 
@@ -135,9 +135,54 @@ fn draw_plots(report: &StressReport, dir: &Path) -> Result<Vec<PathBuf>> {
             band: Vec::new(),
         });
     }
-    Ok(chart::draw(
-        &c,
-        &dir.join("kernel-ulps-histogram"),
-        &[ImageFormat::Png, ImageFormat::Svg],
-    )?)
+    let formats = [ImageFormat::Png, ImageFormat::Svg];
+    let mut files = chart::draw(&c, &dir.join("kernel-ulps-histogram"), &formats)?;
+    files.extend(chart::draw(
+        &suite_map(report),
+        &dir.join("solver-suite-map"),
+        &formats,
+    )?);
+    Ok(files)
+}
+
+/// The solver suite as a pass/fail map: one row per group (NIST, MGH, BRDF), one point per
+/// case, coloured by right, wrong with a failure code, or a suite failure.
+fn suite_map(report: &StressReport) -> Chart {
+    const GROUPS: [&str; 3] = ["nist", "mgh", "brdf"];
+    let mut c = Chart::new(
+        "Solver suite: every case (rows: 1 NIST, 2 MGH, 3 BRDF hostile)",
+        "case (in suite order within its group)",
+        "group",
+    );
+    c.legend = LegendAt::UpperRight;
+    c.y_range = Some((0.5, 3.8));
+    let kinds: [(&str, Style); 3] = [
+        ("right", Style::Points),
+        ("wrong, failure code", Style::HollowPoints),
+        ("suite failure", Style::Points),
+    ];
+    let mut points: [Vec<(f64, f64)>; 3] = Default::default();
+    for (g, group) in GROUPS.iter().enumerate() {
+        let cases = report.suite.cases.iter().filter(|k| k.group == *group);
+        for (i, case) in cases.enumerate() {
+            let kind = match (case.right, case.failure.is_some()) {
+                (true, _) => 0,
+                (false, false) => 1,
+                (false, true) => 2,
+            };
+            points[kind].push((i as f64, (g + 1) as f64));
+        }
+    }
+    let colors = [chart::color(2), chart::color(1), chart::color(3)];
+    for (((label, style), pts), color) in kinds.into_iter().zip(points).zip(colors) {
+        let n = pts.len();
+        c.series.push(Series {
+            label: Some(format!("{label} ({n})")),
+            points: pts,
+            style,
+            color,
+            band: Vec::new(),
+        });
+    }
+    c
 }
