@@ -12,6 +12,7 @@ use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 
 use crate::ImageFormat as PlotFormat;
+use crate::files::{Figure, write_png, write_svg};
 
 /// Plot errors.
 #[derive(Debug, thiserror::Error)]
@@ -278,7 +279,6 @@ pub const SIZE: (u32, u32) = (960, 640);
 
 /// Draws `chart` to `<base>.png` and/or `<base>.svg` (atomically), returning the files written.
 pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<PathBuf>, PlotError> {
-    register_fonts();
     let mut written = Vec::new();
     if let Some(dir) = base.parent() {
         std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
@@ -287,63 +287,23 @@ pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<Pa
         })?;
     }
     for f in formats {
+        let path = match f {
+            PlotFormat::Png => with_ext(base, "png"),
+            PlotFormat::Svg => with_ext(base, "svg"),
+        };
         match f {
-            PlotFormat::Png => {
-                let path = with_ext(base, "png");
-                let name = path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                // The bitmap encoder picks the format from the extension: keep ".png" last.
-                let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
-                {
-                    let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
-                    render_any(&root, chart).map_err(|message| PlotError::Draw {
-                        path: path.clone(),
-                        message,
-                    })?;
-                    root.present().map_err(|e| PlotError::Draw {
-                        path: path.clone(),
-                        message: e.to_string(),
-                    })?;
-                }
-                std::fs::rename(&tmp, &path).map_err(|source| PlotError::Io {
-                    path: path.clone(),
-                    source,
-                })?;
-                written.push(path);
-            }
-            PlotFormat::Svg => {
-                let path = with_ext(base, "svg");
-                let mut text = String::new();
-                {
-                    let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
-                    render_any(&root, chart).map_err(|message| PlotError::Draw {
-                        path: path.clone(),
-                        message,
-                    })?;
-                    root.present().map_err(|e| PlotError::Draw {
-                        path: path.clone(),
-                        message: e.to_string(),
-                    })?;
-                }
-                // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face
-                // first (most systems have it), any sans-serif otherwise.
-                let text = text.replace(
-                    "font-family=\"sans-serif\"",
-                    "font-family=\"DejaVu Sans, sans-serif\"",
-                );
-                crate::files::write_atomic(&path, text.as_bytes()).map_err(|source| {
-                    PlotError::Io {
-                        path: path.clone(),
-                        source,
-                    }
-                })?;
-                written.push(path);
-            }
+            PlotFormat::Png => write_png(chart, SIZE, &path)?,
+            PlotFormat::Svg => write_svg(chart, SIZE, &path)?,
         }
+        written.push(path);
     }
     Ok(written)
+}
+
+impl Figure for Chart {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        render_any(root, self)
+    }
 }
 
 fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {

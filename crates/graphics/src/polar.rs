@@ -32,6 +32,20 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::ImageFormat as PlotFormat;
 use crate::chart::{PlotError, register_fonts};
+use crate::files::{Figure, write_png, write_svg};
+
+/// A polar plot laid out in panels, drawable on any backend.
+struct PolarFigure<'a, 'p> {
+    plot: &'a PolarPlot<'p>,
+    panels: &'a [PolarPanel],
+    cols: usize,
+}
+
+impl Figure for PolarFigure<'_, '_> {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw_figure(root, self.plot, self.panels, self.cols)
+    }
+}
 
 /// Which samples count as lying in the plane of incidence at a given incident angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -421,53 +435,22 @@ pub fn draw_polar(
             source,
         })?;
     }
+    let figure = PolarFigure {
+        plot,
+        panels: &panels,
+        cols: cols as usize,
+    };
     let mut written = Vec::new();
     for f in formats {
+        let path = match f {
+            PlotFormat::Png => base.with_extension("png"),
+            PlotFormat::Svg => base.with_extension("svg"),
+        };
         match f {
-            PlotFormat::Png => {
-                let path = base.with_extension("png");
-                let name = path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                // The bitmap encoder picks the format from the extension: keep ".png" last.
-                let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
-                let draw_err = |message: String| PlotError::Draw {
-                    path: path.clone(),
-                    message,
-                };
-                {
-                    let root = BitMapBackend::new(&tmp, size).into_drawing_area();
-                    draw_figure(&root, plot, &panels, cols as usize).map_err(draw_err)?;
-                    root.present().map_err(|e| draw_err(e.to_string()))?;
-                }
-                std::fs::rename(&tmp, &path).map_err(|source| PlotError::Io {
-                    path: path.clone(),
-                    source,
-                })?;
-                written.push(path);
-            }
-            PlotFormat::Svg => {
-                let path = base.with_extension("svg");
-                let draw_err = |message: String| PlotError::Draw {
-                    path: path.clone(),
-                    message,
-                };
-                let mut text = String::new();
-                {
-                    let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-                    draw_figure(&root, plot, &panels, cols as usize).map_err(draw_err)?;
-                    root.present().map_err(|e| draw_err(e.to_string()))?;
-                }
-                crate::files::write_atomic(&path, text.as_bytes()).map_err(|source| {
-                    PlotError::Io {
-                        path: path.clone(),
-                        source,
-                    }
-                })?;
-                written.push(path);
-            }
+            PlotFormat::Png => write_png(&figure, size, &path)?,
+            PlotFormat::Svg => write_svg(&figure, size, &path)?,
         }
+        written.push(path);
     }
     Ok(written)
 }
