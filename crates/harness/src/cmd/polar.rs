@@ -66,14 +66,14 @@ fn best_from_results(
     };
     let contents = read_results(&dir)
         .with_context(|| format!("--from-results: reading results in {}", dir.display()))?;
-    if contents.header.spec_text.is_empty() {
+    if contents.current_spec_text().is_empty() {
         bail_input!(
             "--from-results {}: the header holds no spec text, so the model layout is unknown",
             dir.display()
         );
     }
     let spec = Spec::parse(
-        &contents.header.spec_text,
+        contents.current_spec_text(),
         &format!("{} (stored spec)", dir.display()),
         &contents.header.experiment,
         &dir,
