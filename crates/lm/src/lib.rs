@@ -39,6 +39,14 @@
 //! always well posed). A step is accepted when `f` decreases by more than 1e-4 of the predicted
 //! reduction.
 //!
+//! With fewer residuals than free variables (`m < n`: a 25-row subsample of a many-lobe model)
+//! `R` has only `m` nonzero rows, and the shifted systems are solved in their dual form
+//! `z = -R_m^T (R_m R_m^T + lambda I)^-1 u_m`, an `m x m` Cholesky per `lambda` instead of
+//! `O(n^3)` Givens work: the same step (tested against the Givens form), at `O(m^3 + m n)` per
+//! `lambda` (one step at 251 parameters on 25 rows once took seconds). After a failed
+//! evaluation the solver asks [`Problem::should_stop`] before retrying with a smaller radius, so
+//! a caller that refuses evaluations once its budget is spent ends the solve at once (code 11).
+//!
 //! **Trust radius** ([`RadiusUpdate`]). The default is N2FB's rule (NL2SOL's DA7SST with
 //! PORT's DG7ITB): RADFAC is Fletcher's factor 0.1..0.5 after a rejected step or one that
 //! achieved less than 0.1 of the predicted reduction; 2..4 when the reduction is at least 0.75

@@ -145,12 +145,10 @@ impl<O: Objective> Problem for Fit<'_, O> {
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
         if self.meter.charge(Kind::Residual, self.rows).is_err() {
-            // The trial is over and `descend` discards this descent. A failed evaluation would
-            // make the solver shrink its radius and retry, recomputing a step (up to ~20 times,
-            // seconds with many parameters) without asking `should_stop`; zero residuals are
-            // accepted and end the solve at once (absolute function convergence).
-            r.fill(0.0);
-            return true;
+            // The trial is over and `descend` discards this descent. The solver asks
+            // `should_stop` after a failed evaluation, which ends the solve at once (code 11)
+            // instead of shrinking the radius and retrying.
+            return false;
         }
         self.objective.residuals(self.work, x, r)
     }
