@@ -505,6 +505,51 @@ impl Workspace {
         (alpha, hit)
     }
 
+    /// Solves the free-set trust-region subproblem of the chosen model (its least-squares form
+    /// built) within `radius` into `sub_z`: the augmented model in normal form, the
+    /// Gauss-Newton model in its dual form when it has fewer rows than free variables, else by
+    /// Givens rotations.
+    fn solve_subproblem(&mut self, n: usize, radius: f64, augmented: bool) -> TrResult {
+        if augmented {
+            self.build_quadratic_model(n);
+        }
+        let lambda = self.lambda;
+        let (z, best, q) = (&mut self.sub_z[..n], &mut self.sub_best, &mut self.sub_q);
+        if augmented {
+            let mut sub = QuadraticModel {
+                n,
+                h: &self.qd_h[..n * n],
+                g: &self.qd_g[..n],
+                chol: &mut self.qd_chol[..n * n],
+            };
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        } else if self.m < n {
+            let k = self.m;
+            let mut sub = WideLeastSquaresModel {
+                n,
+                k,
+                t: &self.ls_t[..n * n],
+                u: &self.ls_u[..n],
+                gram: &mut self.wide_gram[..k * k],
+                chol: &mut self.wide_chol[..k * k],
+                w: &mut self.wide_w[..k],
+                v: &mut self.wide_v[..k],
+            }
+            .with_gram();
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        } else {
+            let mut sub = LeastSquaresModel {
+                n,
+                t: &self.ls_t[..n * n],
+                u: &self.ls_u[..n],
+                t_lambda: &mut self.ls_t_lambda[..n * n],
+                u_lambda: &mut self.ls_u_lambda[..n],
+                row: &mut self.ls_row[..n],
+            };
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        }
+    }
+
     /// Computes the bounded step from `x` within scaled radius `radius` into `self.step`.
     ///
     /// Active set: a variable on a bound whose gradient points out of the box is held. The
@@ -534,63 +579,7 @@ impl Workspace {
                     nreduc_gn = 0.5 * dot(&self.ls_u[..n], &self.ls_u[..n]);
                 }
             }
-            let tr = if augmented {
-                self.build_quadratic_model(n);
-                let mut sub = QuadraticModel {
-                    n,
-                    h: &self.qd_h[..n * n],
-                    g: &self.qd_g[..n],
-                    chol: &mut self.qd_chol[..n * n],
-                };
-                let z = &mut self.sub_z[..n];
-                trust_region(
-                    &mut sub,
-                    remaining,
-                    self.lambda,
-                    z,
-                    &mut self.sub_best,
-                    &mut self.sub_q,
-                )
-            } else if self.m < n {
-                let k = self.m;
-                let mut sub = WideLeastSquaresModel::new(
-                    n,
-                    k,
-                    &self.ls_t[..n * n],
-                    &self.ls_u[..n],
-                    &mut self.wide_gram[..k * k],
-                    &mut self.wide_chol[..k * k],
-                    &mut self.wide_w[..k],
-                    &mut self.wide_v[..k],
-                );
-                let z = &mut self.sub_z[..n];
-                trust_region(
-                    &mut sub,
-                    remaining,
-                    self.lambda,
-                    z,
-                    &mut self.sub_best,
-                    &mut self.sub_q,
-                )
-            } else {
-                let mut sub = LeastSquaresModel {
-                    n,
-                    t: &self.ls_t[..n * n],
-                    u: &self.ls_u[..n],
-                    t_lambda: &mut self.ls_t_lambda[..n * n],
-                    u_lambda: &mut self.ls_u_lambda[..n],
-                    row: &mut self.ls_row[..n],
-                };
-                let z = &mut self.sub_z[..n];
-                trust_region(
-                    &mut sub,
-                    remaining,
-                    self.lambda,
-                    z,
-                    &mut self.sub_best,
-                    &mut self.sub_q,
-                )
-            };
+            let tr = self.solve_subproblem(n, remaining, augmented);
             self.lambda = tr.lambda;
             if first {
                 info.nreduc = if augmented {
@@ -944,45 +933,27 @@ struct WideLeastSquaresModel<'a> {
     v: &'a mut [f64],
 }
 
-impl<'a> WideLeastSquaresModel<'a> {
-    /// The model with its Gram matrix formed; `t` is `n x n` column-major with rows `>= k` zero.
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        n: usize,
-        k: usize,
-        t: &'a [f64],
-        u: &'a [f64],
-        gram: &'a mut [f64],
-        chol: &'a mut [f64],
-        w: &'a mut [f64],
-        v: &'a mut [f64],
-    ) -> Self {
+impl WideLeastSquaresModel<'_> {
+    /// Forms the Gram matrix; `t` is `n x n` column-major with rows `>= k` zero.
+    fn with_gram(self) -> Self {
+        let (n, k) = (self.n, self.k);
         debug_assert!(k < n);
-        gram.fill(0.0);
+        self.gram.fill(0.0);
         // T is upper triangular: T[a, j] = t[j n + a], nonzero only for a <= j and a < k.
         for j in 0..n {
-            let col = &t[j * n..j * n + (j + 1).min(k)];
+            let col = &self.t[j * n..j * n + (j + 1).min(k)];
             for (b, &tb) in col.iter().enumerate() {
                 for (a, &ta) in col[..=b].iter().enumerate() {
-                    gram[b * k + a] += ta * tb;
+                    self.gram[b * k + a] += ta * tb;
                 }
             }
         }
         for b in 0..k {
             for a in 0..b {
-                gram[a * k + b] = gram[b * k + a];
+                self.gram[a * k + b] = self.gram[b * k + a];
             }
         }
-        Self {
-            n,
-            k,
-            t,
-            u,
-            gram,
-            chol,
-            w,
-            v,
-        }
+        self
     }
 }
 
@@ -1920,6 +1891,30 @@ mod tests {
         (t, u)
     }
 
+    #[allow(clippy::too_many_arguments)]
+    fn wide_model<'a>(
+        n: usize,
+        k: usize,
+        t: &'a [f64],
+        u: &'a [f64],
+        gram: &'a mut [f64],
+        chol: &'a mut [f64],
+        w: &'a mut [f64],
+        v: &'a mut [f64],
+    ) -> WideLeastSquaresModel<'a> {
+        WideLeastSquaresModel {
+            n,
+            k,
+            t,
+            u,
+            gram,
+            chol,
+            w,
+            v,
+        }
+        .with_gram()
+    }
+
     /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.
     #[test]
     fn wide_model_matches_the_primal_model() {
@@ -1937,8 +1932,7 @@ mod tests {
             };
             let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
             let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
-            let mut wide =
-                WideLeastSquaresModel::new(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
             assert_eq!(primal.bracket_data(), wide.bracket_data());
             assert!(wide.newton(&mut vec![0.0; n]).is_none());
             for lam in [1e-3, 0.1, 1.0, 30.0, 1e4] {
@@ -1983,8 +1977,7 @@ mod tests {
             };
             let mut zp = vec![0.0; n];
             let rp = trust_region(&mut primal, radius, 0.0, &mut zp, &mut best, &mut q);
-            let mut wide =
-                WideLeastSquaresModel::new(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
             let mut zw = vec![0.0; n];
             let rw = trust_region(&mut wide, radius, 0.0, &mut zw, &mut best, &mut q);
             // Within the region; on its boundary unless the minimum-norm Gauss-Newton step (the

@@ -96,6 +96,26 @@ fn no_singular_convergence_while_the_gradient_is_large() {
     assert!(rep.iterations > 1 && rep.f < 1e3, "{rep:?}");
 }
 
+/// Rosenbrock's residuals `(10 (x2 - x1^2), 1 - x1)`.
+fn rosenbrock(x: &[f64], r: &mut [f64]) -> bool {
+    r[0] = 10.0 * (x[1] - x[0] * x[0]);
+    r[1] = 1.0 - x[0];
+    true
+}
+
+/// Rosenbrock's Jacobian (column-major).
+fn rosenbrock_jacobian(x: &[f64], j: &mut [f64]) -> bool {
+    j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
+    true
+}
+
+/// Solves a two-parameter problem without bounds from `x` with the default options.
+fn solve_unbounded(prob: &mut impl Problem, x: &mut [f64; 2]) -> bounded_lm::Report {
+    Solver::new()
+        .solve(prob, x, &[-INF; 2], &[INF; 2], &Options::default())
+        .unwrap()
+}
+
 /// Stops after `limit` calls of the hook.
 struct Stopping {
     calls: usize,
@@ -109,13 +129,10 @@ impl Problem for Stopping {
         2
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
-        r[0] = 10.0 * (x[1] - x[0] * x[0]);
-        r[1] = 1.0 - x[0];
-        true
+        rosenbrock(x, r)
     }
     fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
-        j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
-        true
+        rosenbrock_jacobian(x, j)
     }
     fn should_stop(&mut self) -> bool {
         self.calls += 1;
@@ -127,15 +144,7 @@ impl Problem for Stopping {
 fn should_stop_interrupts_between_iterations() {
     let mut prob = Stopping { calls: 0, limit: 3 };
     let mut x = [-1.2, 1.0];
-    let rep = Solver::new()
-        .solve(
-            &mut prob,
-            &mut x,
-            &[-INF; 2],
-            &[INF; 2],
-            &Options::default(),
-        )
-        .unwrap();
+    let rep = solve_unbounded(&mut prob, &mut x);
     assert_eq!(rep.outcome, Outcome::Interrupted);
     assert_eq!(rep.outcome.code(), 11);
     assert!(!rep.outcome.is_success());
@@ -151,15 +160,7 @@ fn should_stop_interrupts_between_iterations() {
         limit: usize::MAX,
     };
     let mut x = [-1.2, 1.0];
-    let rep = Solver::new()
-        .solve(
-            &mut prob,
-            &mut x,
-            &[-INF; 2],
-            &[INF; 2],
-            &Options::default(),
-        )
-        .unwrap();
+    let rep = solve_unbounded(&mut prob, &mut x);
     assert!(rep.outcome.is_success());
     assert_eq!(prob.calls, rep.iterations);
 }
@@ -185,13 +186,10 @@ impl Problem for Refusing {
             self.refused += 1;
             return false;
         }
-        r[0] = 10.0 * (x[1] - x[0] * x[0]);
-        r[1] = 1.0 - x[0];
-        true
+        rosenbrock(x, r)
     }
     fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
-        j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
-        true
+        rosenbrock_jacobian(x, j)
     }
     fn should_stop(&mut self) -> bool {
         self.refused > 0
@@ -210,15 +208,7 @@ fn a_refused_evaluation_ends_the_solve_when_the_caller_says_stop() {
             refused: 0,
         };
         let mut x = [-1.2, 1.0];
-        let rep = Solver::new()
-            .solve(
-                &mut prob,
-                &mut x,
-                &[-INF; 2],
-                &[INF; 2],
-                &Options::default(),
-            )
-            .unwrap();
+        let rep = solve_unbounded(&mut prob, &mut x);
         assert_eq!(
             rep.outcome,
             Outcome::Interrupted,
