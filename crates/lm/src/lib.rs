@@ -143,8 +143,19 @@
 //!   stress cases now end with code 7 after 3 iterations at RMSE ~3e-3 instead of code 4 at
 //!   0.36. NIST and MGH counts are unchanged (golden: only MGH17 start 1 moved, still code 7
 //!   at the same f, in 11 iterations and 32 evaluations instead of 13 and 41).
-//! - **Interrupts**: [`Problem::should_stop`] is asked once per iteration and ends the solve
-//!   with [`Outcome::Interrupted`] (code 11, NL2SOL's STOPX code).
+//! - **Interrupts**: [`Problem::should_stop`] is asked once per iteration and after every
+//!   failed evaluation, and ends the solve with [`Outcome::Interrupted`] (code 11, NL2SOL's
+//!   STOPX code).
+//! - **Symmetric saddles are left to the caller** (a documented choice, not an oversight): two
+//!   exchangeable lobes started identical stay identical, because every step of a
+//!   Gauss-Newton-type method is equivariant under exchanging them (equal Jacobian columns give
+//!   equal step components); N2FB behaves the same. Breaking the tie inside the solver would
+//!   need a random perturbation, that is a hidden draw that makes a solve depend on more than
+//!   its inputs, or a deterministic one that favours one lobe. The search layer (crate `sls`)
+//!   never starts there: every start draws each lobe independently from a continuous
+//!   distribution, so identical lobes have probability zero, and a descent that collapses two
+//!   lobes is one of many restarts. brdf-stress keeps the case ("two identical lobes",
+//!   rank-deficient `J`) to check that it ends with an honest code at the symmetric fit.
 //!
 //! # Bounds
 //! An active-set method as in N2FB: `x` is feasible at every evaluation. A variable on a bound
