@@ -245,6 +245,14 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.early_exit = enabled;
     }
 
+    /// The descent's step model: Gauss-Newton (the default) or NL2SOL's adaptive choice between
+    /// it and the augmented model, as in PORT's N2FB. On the paper's tuning instance the
+    /// adaptive model made AED, AERS and RPLS slower (bounded-lm's crate docs, "Step model in
+    /// the searches"), so it is an option for comparisons, not the default.
+    pub fn set_step_model(&mut self, model: bounded_lm::StepModel) {
+        self.options.model = model;
+    }
+
     /// The evaluations counted so far.
     pub fn counts(&self) -> EvalCounts {
         self.meter.counts
