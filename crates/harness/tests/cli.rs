@@ -571,3 +571,65 @@ fn exit_codes_follow_unix_habits() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(!text(&o).contains("panicked"));
 }
+
+#[test]
+fn relative_targets_best_known_and_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = common::TINY.replace("trials = 4", "trials = 2");
+    let with_targets = |t: &str| tiny.replace("targets = [0.105, 0.12]", &format!("targets = {t}"));
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        with_targets("[{ relative = -1 }]"),
+    )
+    .unwrap();
+    let o = brdf_sls(&["check", "bad.toml"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("`targets[0].relative`"), "{}", text(&o));
+
+    // An absolute target below the best-known RMSE is flagged in `check`.
+    std::fs::write(dir.path().join("low.toml"), with_targets("[0.01, 0.2]")).unwrap();
+    let o = brdf_sls(&["check", "low.toml"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning: instance `tuning`: target 0.01 is below the best-known RMSE"),
+        "{}",
+        text(&o)
+    );
+    assert!(!text(&o).contains("target 0.2 is"), "{}", text(&o));
+
+    std::fs::write(
+        dir.path().join("tiny.toml"),
+        with_targets("[{ relative = 0.05 }, 0.2]"),
+    )
+    .unwrap();
+    let o = brdf_sls(&["check", "tiny.toml"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("best-known RMSE") && text(&o).contains("(+5.00%)"),
+        "{}",
+        text(&o)
+    );
+    let o = brdf_sls(
+        &["run", "tiny.toml", "--no-plots", "--threads", "2"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let results = std::fs::read_to_string(dir.path().join("runs/tiny/trials.jsonl")).unwrap();
+    let header: serde_json::Value = serde_json::from_str(results.lines().next().unwrap()).unwrap();
+    let bk = header["best_known"]["tuning"]["rmse"].as_f64().unwrap();
+    assert!((0.08..0.11).contains(&bk), "{bk}");
+    // Every trial ran to 5% above the recorded best-known RMSE.
+    let trial_target = results
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .find(|v| v["type"] == "trial")
+        .and_then(|v| v["target"].as_f64())
+        .unwrap();
+    assert_eq!(trial_target, bk * (1.0 + 0.05));
+    let o = brdf_sls(&["stats", "runs/tiny", "--print-only"], dir.path());
+    assert!(
+        o.status.success() && text(&o).contains("best-known RMSE"),
+        "{}",
+        text(&o)
+    );
+}
