@@ -633,3 +633,50 @@ fn relative_targets_best_known_and_warnings() {
         text(&o)
     );
 }
+
+#[test]
+fn ioh_export_matches_the_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = common::TINY.replace("trials = 4", "trials = 2");
+    std::fs::write(dir.path().join("tiny.toml"), tiny).unwrap();
+    let o = brdf_sls(
+        &["run", "tiny.toml", "--no-plots", "--threads", "2"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let o = brdf_sls(&["export", "--format", "ioh", "nowhere"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = brdf_sls(
+        &["export", "--format", "ioh", "runs/tiny", "--out", "ioh"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let meta: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("ioh/RPLS/IOHprofiler_f1_tuning.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(meta["maximization"], false);
+    let scenario = &meta["scenarios"][0];
+    assert_eq!(scenario["runs"].as_array().unwrap().len(), 2);
+    let dat = std::fs::read_to_string(
+        dir.path()
+            .join("ioh/RPLS")
+            .join(scenario["path"].as_str().unwrap()),
+    )
+    .unwrap();
+    let runs: Vec<&str> = dat.split("evaluations raw_y\n").skip(1).collect();
+    assert_eq!(runs.len(), 2, "{dat}");
+    for (run, meta_run) in runs.iter().zip(scenario["runs"].as_array().unwrap()) {
+        assert!(run.starts_with("1 "), "{run}");
+        let last: f64 = run
+            .lines()
+            .last()
+            .unwrap()
+            .split(' ')
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(last, meta_run["best"]["y"].as_f64().unwrap());
+    }
+}
