@@ -36,7 +36,7 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     };
     let contents =
         read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
-    let spec = match spec {
+    let mut spec = match spec {
         Some(s) => {
             if s.fingerprint() != contents.header.fingerprint {
                 return Err(input_error(format!(
@@ -63,6 +63,12 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             )?
         }
     };
+    // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
+    harness::best_known::resolve(&mut spec, contents.best_known())
+        .context("finding the best-known RMSEs")?;
+    for w in harness::best_known::warnings(&spec) {
+        note!("{w}");
+    }
     if let Some(t) = &contents.torn {
         note!("note: ignoring a torn last line ({} bytes)", t.len());
     }
@@ -76,6 +82,7 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     if a.print_only {
         let stats = harness::report::compute_stats(&spec, &contents.records);
         say!("{}", harness::stats::table(&stats));
+        say!("{}", harness::best_known::summary(&spec).trim_end());
         return Ok(());
     }
     let report =

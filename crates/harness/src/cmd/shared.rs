@@ -15,6 +15,24 @@ pub fn load_spec(path: &Path) -> Result<Spec> {
     Ok(Spec::from_file(path)?)
 }
 
+/// Resolves every instance's best-known RMSE and the relative targets: the values recorded in
+/// `dir`'s results when they were written by this spec, else computed (seeded, see
+/// `harness::best_known`). Prints a warning for each absolute target within 1% of its
+/// instance's best-known RMSE.
+pub fn resolve_best_known(spec: &mut Spec, dir: Option<&Path>) -> Result<()> {
+    let fingerprint = spec.fingerprint();
+    let known = dir
+        .and_then(|d| harness::store::read_results(d).ok())
+        .filter(|c| c.header.fingerprint == fingerprint)
+        .map(|c| c.best_known().clone())
+        .unwrap_or_default();
+    harness::best_known::resolve(spec, &known).context("finding the best-known RMSEs")?;
+    for w in harness::best_known::warnings(spec) {
+        note!("{w}");
+    }
+    Ok(())
+}
+
 /// `runs/<spec file stem>/`, or `runs/default/` for the built-in experiment.
 pub fn default_out(spec: Option<&Path>) -> PathBuf {
     let stem = spec
