@@ -203,16 +203,22 @@
 //! does; [`Report::residual_evaluations`] counts only the solver's own calls.
 //!
 //! # Linear algebra
-//! Hand-written (private module `linalg`): Householder QR of the `m x p` Jacobian, Givens
-//! re-triangularization for each `lambda`, triangular solves and, for the augmented model, a
-//! Cholesky factorization. Not nalgebra, because (a) the operations needed are not ones a general
-//! library offers allocation-free on dynamic sizes (QR of a column subset into preallocated
-//! buffers, Givens updates of `[T; sqrt(lambda) I]`), (b) for `p <= 40` hand-written kernels are
-//! as fast or faster (the shared measurement for a 13x13 Cholesky solve: hand-written 0.7 us,
-//! nalgebra 0.8 us, faer 1.4 us; not re-measured here), and (c) it adds no build time. The QR
-//! form (rather than `J^T J` plus Cholesky, the first version) was chosen after measuring NIST:
-//! the normal-equation version reached only 44/54 and stalled on the ill-conditioned Lanczos
-//! problems.
+//! Hand-written (private module `linalg`, public module [`qr`]): Householder QR of the `m x p`
+//! Jacobian, Givens re-triangularization for each `lambda`, triangular solves and, for the
+//! augmented model, a Cholesky factorization. Tall Jacobians (at least
+//! [`qr::TALL_QR_MIN_ROWS`] rows) use [`qr::tall_qr`], which reads `J` once in L1-sized row
+//! blocks and folds each into the `p x p` triangle (the column scaling and `Q^T r` fused in), so
+//! the full-data descents write no `m x p` copy of `J`; smaller ones use the in-place
+//! [`qr::householder_qr`]. Not a general library, because (a) the other operations needed (QR of
+//! a column subset into preallocated buffers, Givens updates of `[T; sqrt(lambda) I]`) are not
+//! ones it offers, (b) at our sizes the hand-written kernels are faster: faer 0.24's
+//! `qr_in_place` with a preallocated scratch (no allocation either) took about twice the CPU time
+//! of [`qr::tall_qr`] at 10000 x 7 and 25 x 7 (`examples/qr_timing.rs`; faer is a
+//! dev-dependency only, the reference of the differential test `tests/qr_faer.rs`), and for a
+//! 13x13 Cholesky solve the shared measurement gave hand-written 0.7 us, nalgebra 0.8 us, faer
+//! 1.4 us (not re-measured here), and (c) it adds no build time. The QR form (rather than `J^T J`
+//! plus Cholesky, the first version) was chosen after measuring NIST: the normal-equation version
+//! reached only 44/54 and stalled on the ill-conditioned Lanczos problems.
 //!
 //! # Test problems
 //! [`problems`] holds the Moré-Garbow-Hillstrom collection ([`problems::mgh`]) and the NIST StRD
@@ -271,6 +277,7 @@ mod linalg;
 mod options;
 mod problem;
 pub mod problems;
+pub mod qr;
 mod solver;
 
 pub use options::{Options, Outcome, RadiusUpdate, Report, SolveError, StepModel};

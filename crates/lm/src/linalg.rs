@@ -29,65 +29,6 @@ pub(crate) fn norm(a: &[f64]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// In-place Householder QR of the column-major `rows x cols` matrix `a` (leading dimension
-/// `rows`), applying the same reflections to `rhs` (length `rows`). On return the upper triangle
-/// of `a` holds `R` (diagonal entries may be negative) and `rhs` holds `Q^T rhs`. Working on `J`
-/// itself instead of `J^T J` keeps the condition number from being squared, which the
-/// ill-conditioned NIST problems (Lanczos, Bennett5) need.
-pub(crate) fn householder_qr(a: &mut [f64], rows: usize, cols: usize, rhs: &mut [f64]) {
-    for k in 0..rows.min(cols) {
-        let (head, tail) = a.split_at_mut((k + 1) * rows);
-        let v = &mut head[k * rows + k..(k + 1) * rows];
-        let mut alpha0 = norm(v);
-        // Far from 1 the squares under- or overflow (a column of 1e-160 gave inf and NaN in R):
-        // rescale the column first. The reflector `I - beta v v^T` does not depend on the scale
-        // of v, only R's diagonal entry does (restored below).
-        let mut scale = 1.0;
-        if !(alpha0 > 1e-140 && alpha0 < 1e140) {
-            let amax = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-            if amax == 0.0 || !amax.is_finite() {
-                continue;
-            }
-            scale = amax;
-            for x in v.iter_mut() {
-                *x /= amax;
-            }
-            alpha0 = norm(v);
-        }
-        if alpha0 == 0.0 {
-            continue;
-        }
-        let alpha = if v[0] > 0.0 { -alpha0 } else { alpha0 };
-        v[0] -= alpha;
-        let vtv = dot(v, v);
-        if vtv == 0.0 {
-            v[0] += alpha;
-            for x in v.iter_mut() {
-                *x *= scale;
-            }
-            continue;
-        }
-        let beta = 2.0 / vtv;
-        for j in 0..cols - k - 1 {
-            let col = &mut tail[j * rows + k..(j + 1) * rows];
-            let w = beta * dot(v, col);
-            for (c, &vi) in col.iter_mut().zip(v.iter()) {
-                *c -= w * vi;
-            }
-        }
-        let rr = &mut rhs[k..rows];
-        let w = beta * dot(v, rr);
-        for (c, &vi) in rr.iter_mut().zip(v.iter()) {
-            *c -= w * vi;
-        }
-        // Store R's diagonal; the reflector below it is no longer needed.
-        v[0] = alpha * scale;
-        for vi in v[1..].iter_mut() {
-            *vi = 0.0;
-        }
-    }
-}
-
 /// Given upper-triangular `t` (`n x n`) and `u`, computes upper-triangular `tl` with
 /// `tl^T tl = t^T t + lam I` and the correspondingly rotated `ul` (Givens rotations eliminating
 /// the rows `sqrt(lam) e_i`, MINPACK's qrsolv). `w` is scratch of length `n`.
@@ -242,6 +183,7 @@ pub(crate) fn backward_solve(l: &[f64], n: usize, b: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::qr::householder_qr;
 
     #[test]
     fn cholesky_solves_spd_system() {

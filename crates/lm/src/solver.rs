@@ -9,9 +9,10 @@
 //! (Dennis, Gay and Welsch 1981; Gay 1983): RADFAC, RADINC, PREDUC, NREDUC, RELDX, STPPAR.
 
 use crate::linalg::{
-    backward_solve, cholesky_shifted, dot, forward_solve, householder_qr, jt_vec, norm,
-    shifted_triangular, sym_mat_vec, upper_solve, upper_transpose_solve,
+    backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm, shifted_triangular,
+    sym_mat_vec, upper_solve, upper_transpose_solve,
 };
+use crate::qr::{TALL_QR_MIN_ROWS, householder_qr, tall_qr, tall_qr_scratch_len};
 use crate::{Options, Outcome, Problem, RadiusUpdate, Report, SolveError, StepModel};
 
 /// Relative pivot threshold at which the augmented model `D^-1 (J^T J + S) D^-1` counts as
@@ -74,6 +75,9 @@ struct Workspace {
     rmat: Vec<f64>,
     /// First p entries of `Q^T r`.
     cvec: Vec<f64>,
+    /// `D^-1` with 0 for dead columns, and the row block of [`tall_qr`] (tall Jacobians).
+    col_scale: Vec<f64>,
+    qr_scratch: Vec<f64>,
     /// Scaling `D`.
     d: Vec<f64>,
     /// `J^T J` (unscaled).
@@ -222,6 +226,7 @@ impl Workspace {
             &mut self.wide_w,
             &mut self.wide_v,
             &mut self.cvec,
+            &mut self.col_scale,
             &mut self.col_max,
             &mut self.y,
             &mut self.ysharp,
@@ -240,6 +245,7 @@ impl Workspace {
         }
         grow(&mut self.jac, m * p);
         grow(&mut self.qr, m * p);
+        grow(&mut self.qr_scratch, tall_qr_scratch_len(p));
         grow(&mut self.ls_block, p * (p + 1));
         for v in [
             &mut self.jtj,
@@ -287,6 +293,54 @@ impl Workspace {
     /// ill-conditioned that the subproblem moved the dead variables by garbage amounts, and its
     /// squares underflowed in the QR.
     fn factor_jacobian(&mut self) {
+        let p = self.p;
+        if self.m >= TALL_QR_MIN_ROWS && self.m >= p {
+            self.factor_tall();
+        } else {
+            self.factor_in_place();
+        }
+        for j in 0..p {
+            let cj = &self.rmat[j * p..(j + 1) * p];
+            self.g[j] = self.d[j] * dot(cj, &self.cvec[..p]);
+            for k in 0..=j {
+                let v = self.d[j] * self.d[k] * dot(cj, &self.rmat[k * p..(k + 1) * p]);
+                self.jtj[j * p + k] = v;
+                self.jtj[k * p + j] = v;
+            }
+        }
+    }
+
+    /// Tall Jacobians: the blocked [`tall_qr`] reads `J` once, scaling by `D^-1` (0 for a dead
+    /// column) on the fly, so neither the `m x p` scaled copy nor the copy of `r` is written.
+    fn factor_tall(&mut self) {
+        let (m, p) = (self.m, self.p);
+        let mut max_scaled = 0.0f64;
+        for j in 0..p {
+            // max |J_ij| / D_j is exactly max |J_ij / D_j| (rounding is monotone), as below.
+            let amax = self.jac[j * m..(j + 1) * m]
+                .iter()
+                .fold(0.0f64, |a, v| a.max(v.abs()));
+            self.col_max[j] = amax * (1.0 / self.d[j]);
+            max_scaled = max_scaled.max(self.col_max[j]);
+        }
+        for j in 0..p {
+            self.dead[j] = !(self.col_max[j] > DEAD_COLUMN * max_scaled);
+            self.col_scale[j] = if self.dead[j] { 0.0 } else { 1.0 / self.d[j] };
+        }
+        tall_qr(
+            &self.jac[..m * p],
+            m,
+            p,
+            &self.col_scale[..p],
+            &self.r[..m],
+            &mut self.rmat[..p * p],
+            &mut self.cvec[..p],
+            &mut self.qr_scratch,
+        );
+    }
+
+    /// Small Jacobians: scaled copy, in-place [`householder_qr`], `R` and `c` copied out.
+    fn factor_in_place(&mut self) {
         let (m, p) = (self.m, self.p);
         let mut max_scaled = 0.0f64;
         for j in 0..p {
@@ -322,15 +376,6 @@ impl Workspace {
                 };
             }
             self.cvec[j] = if j < m { self.rq[j] } else { 0.0 };
-        }
-        for j in 0..p {
-            let cj = &self.rmat[j * p..(j + 1) * p];
-            self.g[j] = self.d[j] * dot(cj, &self.cvec[..p]);
-            for k in 0..=j {
-                let v = self.d[j] * self.d[k] * dot(cj, &self.rmat[k * p..(k + 1) * p]);
-                self.jtj[j * p + k] = v;
-                self.jtj[k * p + j] = v;
-            }
         }
     }
 

@@ -81,6 +81,26 @@ fn repeated_solves_do_not_allocate() {
             assert_eq!(n, 0, "smaller solve allocated ({model:?})");
         }
     }
+    // A tall problem takes the blocked QR (`tall_qr`); after it, the smaller ones above take the
+    // in-place QR again: neither allocates.
+    let mut tall = ExpSum::new(2000, 6);
+    const { assert!(2000 >= bounded_lm::qr::TALL_QR_MIN_ROWS) };
+    let options = Options::default();
+    let start = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];
+    let mut x = start;
+    solver
+        .solve(&mut tall, &mut x, &lower, &upper, &options)
+        .unwrap();
+    for prob in [&mut tall, &mut big] {
+        let mut x = start;
+        let (rep, n) = counted(|| {
+            solver
+                .solve(prob, &mut x, &lower, &upper, &options)
+                .unwrap()
+        });
+        assert!(rep.iterations > 1);
+        assert_eq!(n, 0, "solve after a tall one allocated");
+    }
     // The forward-difference adapter allocates only in its constructor.
     let mut fd = ForwardDifference::new(ExpSum::new(25, 4));
     let options = Options::default();
