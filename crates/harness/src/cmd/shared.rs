@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
-use harness::spec::{DataFormat, Spec};
+use harness::spec::Spec;
 
 use super::{input_error, note};
 use crate::cli::DataArgs;
@@ -27,21 +27,7 @@ pub fn default_out(spec: Option<&Path>) -> PathBuf {
 /// Loads the data set the flags name, under the shared data policy (see [`DataArgs`]), and
 /// reports what the filters dropped on standard error.
 pub fn load_data(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
-    let fs = args.file_spec();
-    if fs.format.is_none() && DataFormat::from_path(&args.data).is_none() {
-        return Err(input_error(format!(
-            "{}: cannot tell the format from the extension; pass --format cornell|csv|merl",
-            args.data.display()
-        )));
-    }
-    if !(args.wavelength.is_finite() && args.wavelength > 0.0) {
-        return Err(input_error(format!(
-            "--wavelength {}: expected a positive number of nm",
-            args.wavelength
-        )));
-    }
-    let (data, rep) = harness::instance::load_file(&fs, &args.data)
-        .with_context(|| format!("reading {}", args.data.display()))?;
+    let (data, rep) = harness::fit::load_data(&args.file_spec())?;
     note!(
         "{}: {} samples kept ({rep})",
         args.data.display(),
