@@ -152,3 +152,14 @@ def test_frames_are_pandas_dataframes(cli, tmp_path):
     assert set(frames["trials"]["config"]) == {"AED", "RPLS", "DS"}
     assert frames["traces"].groupby("key")["rmse"].is_monotonic_decreasing.all()
     assert len(frames["stats"]) == 3 * 2 * 2
+
+
+@pytest.mark.parametrize("algorithm", ["aed", "aers", "rpls", "ds", "sa", "sals", "avg", "asa"])
+def test_every_algorithm_fits_from_python(algorithm):
+    data = bs.DataSet.synthetic("tuning", samples=500, sigma=0.05, seed=1)
+    r = bs.fit(data, algorithm, cpu_seconds=0.3, seed=4)
+    assert r["algorithm"]["kind"] == algorithm
+    assert r["stop"] in {"cpu_budget", "finished"}
+    assert np.isfinite(r["rmse"]) and r["rmse"] == pytest.approx(r["best_rmse"], rel=1e-12)
+    assert r["evaluations"] > 0 and r["cpu_seconds"] > 0
+    assert bs.Model().rmse(r["x"], data) == r["rmse"]
