@@ -20,6 +20,8 @@
 //! - [`machine`]: CPU model and thread count recorded with results.
 //! - [`tune`]: automatic tuning with irace (scenario files, target runner, elites).
 //! - [`instance`]: building an experiment's data sets and layouts.
+//! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
+//! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 //! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
@@ -29,6 +31,8 @@
 /// with them.
 pub const DEFAULT_RUNS_DIR: &str = "runs";
 
+pub mod best_known;
+pub mod export;
 pub mod figures;
 pub mod fit;
 pub mod instance;

@@ -126,7 +126,7 @@ pub fn write_report(
     let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
     let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
     let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
-    let table = stats::table(&report);
+    let table = with_best_known(spec, stats::table(&report));
     let mut files = Vec::new();
     let stats_path = out.join("stats.json");
     let json = to_json(&stats_path, &report)?;
@@ -162,6 +162,8 @@ pub fn write_report(
         "sessions": sessions,
         "configurations": spec.config_labels(),
         "instances": spec.instance_names(),
+        "best_known": spec.best_known(),
+        "warnings": crate::best_known::warnings(spec),
         "files": files.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
     });
     let summary_path = out.join("summary.json");
@@ -172,6 +174,23 @@ pub fn write_report(
         table,
         files,
     })
+}
+
+/// The statistics table followed by each instance's best-known RMSE (with every target
+/// relative to it) and the warnings about targets close to it, when they are known.
+fn with_best_known(spec: &Spec, mut table: String) -> String {
+    if spec.instances.iter().all(|i| i.best_known.is_none()) {
+        return table;
+    }
+    if !table.ends_with('\n') {
+        table.push('\n');
+    }
+    table.push_str(&crate::best_known::summary(spec));
+    for w in crate::best_known::warnings(spec) {
+        table.push_str(&w);
+        table.push('\n');
+    }
+    table
 }
 
 /// Default target range of the error-time and ECDF plots: from the lowest target to the median
@@ -216,7 +235,11 @@ pub fn draw_plots(
                     Measure::CpuSeconds,
                     spec.budget.cpu_seconds,
                 );
-                files.extend(plot::draw(&c, &base(&format!("rtd-cpu-q{t}")), formats)?);
+                files.extend(plot::draw(
+                    &c,
+                    &base(&format!("rtd-cpu-q{}", inst.target_label(t))),
+                    formats,
+                )?);
             }
             if wants(PlotKind::RtdEvaluations) {
                 let c = figures::rtd_chart(
@@ -226,7 +249,11 @@ pub fn draw_plots(
                     Measure::Evaluations,
                     spec.budget.sample_evaluations.map(|e| e as f64),
                 );
-                files.extend(plot::draw(&c, &base(&format!("rtd-evals-q{t}")), formats)?);
+                files.extend(plot::draw(
+                    &c,
+                    &base(&format!("rtd-evals-q{}", inst.target_label(t))),
+                    formats,
+                )?);
             }
         }
         let t0 = inst.run_target();

@@ -64,7 +64,11 @@ impl SlsExecutor {
             .collect::<Result<_, _>>()?;
         let objectives = built
             .iter()
-            .map(|b| BrdfObjective::with_kernel(b.data.clone(), b.layout.clone(), kernel))
+            .zip(&spec.instances)
+            .map(|(b, i)| {
+                BrdfObjective::with_kernel(b.data.clone(), b.layout.clone(), kernel)
+                    .map(|o| o.with_starts(i.model.starts))
+            })
             .collect::<Result<_, _>>()?;
         let provenance = Provenance {
             kernel: kernel.to_string(),
@@ -224,6 +228,7 @@ pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Heade
         kernel: provenance.kernel.clone(),
         data_hashes: provenance.data_hashes.clone(),
         shard: None,
+        best_known: spec.best_known(),
     }
 }
 

@@ -189,6 +189,10 @@ pub struct Header {
     /// plan, a merged folder, and older files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<crate::shard::Shard>,
+    /// Instance name -> best-known RMSE when the file was created ([`crate::best_known`]).
+    /// Empty in older files.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub best_known: BTreeMap<String, crate::best_known::BestKnown>,
 }
 
 /// One start of a run against a results file.
@@ -210,6 +214,9 @@ pub struct Session {
     /// The evaluation kernel of this session (empty in older files).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub kernel: String,
+    /// Instance name -> best-known RMSE this session used (empty in older files).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub best_known: BTreeMap<String, crate::best_known::BestKnown>,
 }
 
 /// One finished trial.
@@ -304,6 +311,17 @@ impl Contents {
             .map(|s| s.spec_text.as_str())
             .find(|t| !t.is_empty())
             .unwrap_or(&self.header.spec_text)
+    }
+
+    /// The best-known RMSEs of the latest session that recorded them, else the header's
+    /// (empty for files written before they were recorded).
+    pub fn best_known(&self) -> &BTreeMap<String, crate::best_known::BestKnown> {
+        self.sessions
+            .iter()
+            .rev()
+            .map(|s| &s.best_known)
+            .find(|b| !b.is_empty())
+            .unwrap_or(&self.header.best_known)
     }
 }
 
@@ -647,6 +665,7 @@ impl ResultStore {
             spec_text: header.spec_text.clone(),
             program_version: env!("CARGO_PKG_VERSION").to_string(),
             kernel: header.kernel.clone(),
+            best_known: header.best_known.clone(),
         }))?;
         Ok(Opened {
             store,
@@ -729,6 +748,7 @@ mod tests {
             kernel: String::new(),
             data_hashes: BTreeMap::new(),
             shard: None,
+            best_known: BTreeMap::new(),
         }
     }
 

@@ -572,3 +572,112 @@ fn exit_codes_follow_unix_habits() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(!text(&o).contains("panicked"));
 }
+
+#[test]
+fn relative_targets_best_known_and_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = common::TINY.replace("trials = 4", "trials = 2");
+    let with_targets = |t: &str| tiny.replace("targets = [0.105, 0.12]", &format!("targets = {t}"));
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        with_targets("[{ relative = -1 }]"),
+    )
+    .unwrap();
+    let o = brdf_sls(&["check", "bad.toml"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("`targets[0].relative`"), "{}", text(&o));
+
+    // An absolute target below the best-known RMSE is flagged in `check`.
+    std::fs::write(dir.path().join("low.toml"), with_targets("[0.01, 0.2]")).unwrap();
+    let o = brdf_sls(&["check", "low.toml"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning: instance `tuning`: target 0.01 is below the best-known RMSE"),
+        "{}",
+        text(&o)
+    );
+    assert!(!text(&o).contains("target 0.2 is"), "{}", text(&o));
+
+    std::fs::write(
+        dir.path().join("tiny.toml"),
+        with_targets("[{ relative = 0.05 }, 0.2]"),
+    )
+    .unwrap();
+    let o = brdf_sls(&["check", "tiny.toml"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("best-known RMSE") && text(&o).contains("(+5.00%)"),
+        "{}",
+        text(&o)
+    );
+    let o = brdf_sls(
+        &["run", "tiny.toml", "--no-plots", "--threads", "2"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let results = std::fs::read_to_string(dir.path().join("runs/tiny/trials.jsonl")).unwrap();
+    let header: serde_json::Value = serde_json::from_str(results.lines().next().unwrap()).unwrap();
+    let bk = header["best_known"]["tuning"]["rmse"].as_f64().unwrap();
+    assert!((0.08..0.11).contains(&bk), "{bk}");
+    // Every trial ran to 5% above the recorded best-known RMSE.
+    let trial_target = results
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .find(|v| v["type"] == "trial")
+        .and_then(|v| v["target"].as_f64())
+        .unwrap();
+    assert_eq!(trial_target, bk * (1.0 + 0.05));
+    let o = brdf_sls(&["stats", "runs/tiny", "--print-only"], dir.path());
+    assert!(
+        o.status.success() && text(&o).contains("best-known RMSE"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
+fn ioh_export_matches_the_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = common::TINY.replace("trials = 4", "trials = 2");
+    std::fs::write(dir.path().join("tiny.toml"), tiny).unwrap();
+    let o = brdf_sls(
+        &["run", "tiny.toml", "--no-plots", "--threads", "2"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let o = brdf_sls(&["export", "--format", "ioh", "nowhere"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = brdf_sls(
+        &["export", "--format", "ioh", "runs/tiny", "--out", "ioh"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let meta: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("ioh/RPLS/IOHprofiler_f1_tuning.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(meta["maximization"], false);
+    let scenario = &meta["scenarios"][0];
+    assert_eq!(scenario["runs"].as_array().unwrap().len(), 2);
+    let dat = std::fs::read_to_string(
+        dir.path()
+            .join("ioh/RPLS")
+            .join(scenario["path"].as_str().unwrap()),
+    )
+    .unwrap();
+    let runs: Vec<&str> = dat.split("evaluations raw_y\n").skip(1).collect();
+    assert_eq!(runs.len(), 2, "{dat}");
+    for (run, meta_run) in runs.iter().zip(scenario["runs"].as_array().unwrap()) {
+        assert!(run.starts_with("1 "), "{run}");
+        let last: f64 = run
+            .lines()
+            .last()
+            .unwrap()
+            .split(' ')
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(last, meta_run["best"]["y"].as_f64().unwrap());
+    }
+}

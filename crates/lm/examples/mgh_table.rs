@@ -2,7 +2,8 @@
 //! default options and prints the markdown table; with a path argument it also writes it there.
 //!
 //! `cargo run -p bounded-lm --release --example mgh_table -- crates/lm/MGH.md [gauss-newton|adaptive]`
-//! (the second argument overrides the default step model).
+//! (the second argument overrides the default step model; a third, `lift`, sets
+//! `Options::lift_round_off_radius`).
 
 #[path = "../tests/common/mgh_run.rs"]
 mod mgh_run;
@@ -15,6 +16,9 @@ fn main() {
         Some("adaptive") => options.model = bounded_lm::StepModel::Adaptive,
         Some("gauss-newton") => options.model = bounded_lm::StepModel::GaussNewton,
         _ => {}
+    }
+    if std::env::args().nth(3).as_deref() == Some("lift") {
+        options.lift_round_off_radius = true;
     }
     let runs = mgh_run::run_all(&options);
     let summary = mgh_run::summary(&runs);

@@ -116,12 +116,20 @@ struct Workspace {
     ls_t_lambda: Vec<f64>,
     ls_u_lambda: Vec<f64>,
     ls_row: Vec<f64>,
+    /// With fewer rows `k` than free variables (a subsample smaller than the model): the Gram
+    /// matrix `T_k T_k^T` of T's nonzero rows, the Cholesky factor of `T_k T_k^T + lambda I`, and
+    /// the dual solution `w` and `(T_k T_k^T + lambda I)^-1 w` ([`WideLeastSquaresModel`]).
+    wide_gram: Vec<f64>,
+    wide_chol: Vec<f64>,
+    wide_w: Vec<f64>,
+    wide_v: Vec<f64>,
     /// Normal form of the free-set augmented model `g^T z + 0.5 z^T H z` (scaled) and the
     /// Cholesky factor of `H + lambda I`.
     qd_h: Vec<f64>,
     qd_g: Vec<f64>,
     qd_chol: Vec<f64>,
-    /// Scaled free-set step `z`, the best feasible one seen, and `L^-1 z` (Hebden's update).
+    /// Scaled free-set step `z`, the best feasible one seen, and scratch for `L^-1 z` (Hebden's
+    /// update).
     sub_z: Vec<f64>,
     sub_best: Vec<f64>,
     sub_q: Vec<f64>,
@@ -211,6 +219,8 @@ impl Workspace {
             &mut self.sub_z,
             &mut self.sub_best,
             &mut self.sub_q,
+            &mut self.wide_w,
+            &mut self.wide_v,
             &mut self.cvec,
             &mut self.col_max,
             &mut self.y,
@@ -240,6 +250,8 @@ impl Workspace {
             &mut self.ls_t_lambda,
             &mut self.qd_h,
             &mut self.qd_chol,
+            &mut self.wide_gram,
+            &mut self.wide_chol,
         ] {
             grow(v, p * p);
         }
@@ -411,17 +423,19 @@ impl Workspace {
             self.ls_u[..p].copy_from_slice(&self.cvec[..p]);
             return;
         }
-        // c' = c + R D s, then QR of [R_F | c'] gives the free-set model.
+        // c' = c + R D s, then QR of [R_F | c'] gives the free-set model. R and c are zero below
+        // row min(m, p), so only those rows take part: the same result, and with a subsample
+        // smaller than the model (m << p) a much cheaper QR.
         for i in 0..p {
             self.d_step[i] = self.d[i] * self.step[i];
         }
-        let rows = p;
+        let rows = self.m.min(p);
         for a in 0..n {
             let ia = self.free[a];
             self.ls_block[a * rows..(a + 1) * rows]
-                .copy_from_slice(&self.rmat[ia * p..(ia + 1) * p]);
+                .copy_from_slice(&self.rmat[ia * p..ia * p + rows]);
         }
-        for i in 0..p {
+        for i in 0..rows {
             let mut v = self.cvec[i];
             for j in i..p {
                 v += self.rmat[j * p + i] * self.d_step[j];
@@ -436,13 +450,13 @@ impl Workspace {
         );
         for b in 0..n {
             for a in 0..n {
-                self.ls_t[b * n + a] = if a <= b {
+                self.ls_t[b * n + a] = if a <= b && a < rows {
                     self.ls_block[b * rows + a]
                 } else {
                     0.0
                 };
             }
-            self.ls_u[b] = self.ls_rhs[b];
+            self.ls_u[b] = if b < rows { self.ls_rhs[b] } else { 0.0 };
         }
     }
 
@@ -491,6 +505,51 @@ impl Workspace {
         (alpha, hit)
     }
 
+    /// Solves the free-set trust-region subproblem of the chosen model (its least-squares form
+    /// built) within `radius` into `sub_z`: the augmented model in normal form, the
+    /// Gauss-Newton model in its dual form when it has fewer rows than free variables, else by
+    /// Givens rotations.
+    fn solve_subproblem(&mut self, n: usize, radius: f64, augmented: bool) -> TrResult {
+        if augmented {
+            self.build_quadratic_model(n);
+        }
+        let lambda = self.lambda;
+        let (z, best, q) = (&mut self.sub_z[..n], &mut self.sub_best, &mut self.sub_q);
+        if augmented {
+            let mut sub = QuadraticModel {
+                n,
+                h: &self.qd_h[..n * n],
+                g: &self.qd_g[..n],
+                chol: &mut self.qd_chol[..n * n],
+            };
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        } else if self.m < n {
+            let k = self.m;
+            let mut sub = WideLeastSquaresModel {
+                n,
+                k,
+                t: &self.ls_t[..n * n],
+                u: &self.ls_u[..n],
+                gram: &mut self.wide_gram[..k * k],
+                chol: &mut self.wide_chol[..k * k],
+                w: &mut self.wide_w[..k],
+                v: &mut self.wide_v[..k],
+            }
+            .with_gram();
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        } else {
+            let mut sub = LeastSquaresModel {
+                n,
+                t: &self.ls_t[..n * n],
+                u: &self.ls_u[..n],
+                t_lambda: &mut self.ls_t_lambda[..n * n],
+                u_lambda: &mut self.ls_u_lambda[..n],
+                row: &mut self.ls_row[..n],
+            };
+            trust_region(&mut sub, radius, lambda, z, best, q)
+        }
+    }
+
     /// Computes the bounded step from `x` within scaled radius `radius` into `self.step`.
     ///
     /// Active set: a variable on a bound whose gradient points out of the box is held. The
@@ -520,42 +579,7 @@ impl Workspace {
                     nreduc_gn = 0.5 * dot(&self.ls_u[..n], &self.ls_u[..n]);
                 }
             }
-            let tr = if augmented {
-                self.build_quadratic_model(n);
-                let mut sub = QuadraticModel {
-                    n,
-                    h: &self.qd_h[..n * n],
-                    g: &self.qd_g[..n],
-                    chol: &mut self.qd_chol[..n * n],
-                };
-                let z = &mut self.sub_z[..n];
-                trust_region(
-                    &mut sub,
-                    remaining,
-                    self.lambda,
-                    z,
-                    &mut self.sub_best,
-                    &mut self.sub_q,
-                )
-            } else {
-                let mut sub = LeastSquaresModel {
-                    n,
-                    t: &self.ls_t[..n * n],
-                    u: &self.ls_u[..n],
-                    t_lambda: &mut self.ls_t_lambda[..n * n],
-                    u_lambda: &mut self.ls_u_lambda[..n],
-                    row: &mut self.ls_row[..n],
-                };
-                let z = &mut self.sub_z[..n];
-                trust_region(
-                    &mut sub,
-                    remaining,
-                    self.lambda,
-                    z,
-                    &mut self.sub_best,
-                    &mut self.sub_q,
-                )
-            };
+            let tr = self.solve_subproblem(n, remaining, augmented);
             self.lambda = tr.lambda;
             if first {
                 info.nreduc = if augmented {
@@ -790,8 +814,9 @@ trait Subproblem {
     fn newton(&mut self, z: &mut [f64]) -> Option<f64>;
     /// Step at `lam > 0` into `z`; false when the shifted system is not positive definite.
     fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool;
-    /// `q <- L^-1 q` where `L L^T = H + lam I` is the last shifted system.
-    fn lower_solve(&self, q: &mut [f64]);
+    /// `||L^-1 z||` where `L L^T = H + lam I` is the last shifted system and `z` its step;
+    /// `q` is scratch of length n.
+    fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64;
     /// Gradient norm, a bound on `||H||`, and the smallest diagonal entry of `H`.
     fn bracket_data(&self) -> (f64, f64, f64);
     /// The steepest-descent direction `-gradient` into `z`.
@@ -851,27 +876,132 @@ impl Subproblem for LeastSquaresModel<'_> {
         true
     }
 
-    fn lower_solve(&self, q: &mut [f64]) {
-        upper_transpose_solve(self.t_lambda, self.n, q);
+    fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+        let n = self.n;
+        q[..n].copy_from_slice(&z[..n]);
+        upper_transpose_solve(self.t_lambda, n, q);
+        norm(&q[..n])
     }
 
     fn bracket_data(&self) -> (f64, f64, f64) {
-        // gradient T^T u; ||T^T T|| <= ||T||_F^2; the model is positive semidefinite.
-        let n = self.n;
-        let mut g2 = 0.0;
-        for j in 0..n {
-            let v = dot(&self.t[j * n..j * n + j + 1], &self.u[..j + 1]);
-            g2 += v * v;
-        }
-        let f2 = dot(&self.t[..n * n], &self.t[..n * n]);
-        (g2.sqrt(), f2, 0.0)
+        least_squares_bracket_data(self.t, self.u, self.n)
     }
 
     fn steepest_descent(&self, z: &mut [f64]) {
-        let n = self.n;
+        least_squares_steepest_descent(self.t, self.u, self.n, z);
+    }
+}
+
+/// Gradient norm `||T^T u||`, the bound `||T^T T|| <= ||T||_F^2` and 0, the smallest possible
+/// diagonal entry of the positive semidefinite `T^T T`.
+fn least_squares_bracket_data(t: &[f64], u: &[f64], n: usize) -> (f64, f64, f64) {
+    let mut g2 = 0.0;
+    for j in 0..n {
+        let v = dot(&t[j * n..j * n + j + 1], &u[..j + 1]);
+        g2 += v * v;
+    }
+    let f2 = dot(&t[..n * n], &t[..n * n]);
+    (g2.sqrt(), f2, 0.0)
+}
+
+/// `z = -T^T u`, the negative gradient of `0.5 ||u + T z||^2` at 0.
+fn least_squares_steepest_descent(t: &[f64], u: &[f64], n: usize, z: &mut [f64]) {
+    for j in 0..n {
+        z[j] = -dot(&t[j * n..j * n + j + 1], &u[..j + 1]);
+    }
+}
+
+/// The Gauss-Newton model `0.5 ||u + T z||^2` when `T` has only `k < n` nonzero rows (fewer
+/// residuals than free variables, as in AED's 25-row descents of many-lobe models), solved in
+/// its dual form: `(T^T T + lambda I) z = -T^T u` has the solution `z = -T_k^T w` with
+/// `(T_k T_k^T + lambda I) w = u_k`, a `k x k` system. The primal Givens factorization costs
+/// `O(n^3)` per lambda (0.2 s per step at 16 lobes, seconds at 50, all of it between two calls
+/// of the problem, so no CPU cutoff could interrupt it); this costs `O(k^3 + k n)` after the
+/// Gram matrix (`O(k^2 n)`, once per model). The model is singular, so there is no Newton step.
+struct WideLeastSquaresModel<'a> {
+    n: usize,
+    k: usize,
+    t: &'a [f64],
+    u: &'a [f64],
+    /// `G = T_k T_k^T` (symmetric, `k x k`, column-major).
+    gram: &'a mut [f64],
+    /// Lower Cholesky factor of `G + lambda I`.
+    chol: &'a mut [f64],
+    /// `w = (G + lambda I)^-1 u_k` of the last shifted system.
+    w: &'a mut [f64],
+    /// Scratch: `(G + lambda I)^-1 w`.
+    v: &'a mut [f64],
+}
+
+impl WideLeastSquaresModel<'_> {
+    /// Forms the Gram matrix; `t` is `n x n` column-major with rows `>= k` zero.
+    fn with_gram(self) -> Self {
+        let (n, k) = (self.n, self.k);
+        debug_assert!(k < n);
+        self.gram.fill(0.0);
+        // T is upper triangular: T[a, j] = t[j n + a], nonzero only for a <= j and a < k.
         for j in 0..n {
-            z[j] = -dot(&self.t[j * n..j * n + j + 1], &self.u[..j + 1]);
+            let col = &self.t[j * n..j * n + (j + 1).min(k)];
+            for (b, &tb) in col.iter().enumerate() {
+                for (a, &ta) in col[..=b].iter().enumerate() {
+                    self.gram[b * k + a] += ta * tb;
+                }
+            }
         }
+        for b in 0..k {
+            for a in 0..b {
+                self.gram[a * k + b] = self.gram[b * k + a];
+            }
+        }
+        self
+    }
+}
+
+impl Subproblem for WideLeastSquaresModel<'_> {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn newton(&mut self, _z: &mut [f64]) -> Option<f64> {
+        None
+    }
+
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+        let (n, k) = (self.n, self.k);
+        if !cholesky_shifted(self.gram, lam, k, SHIFTED_TOL, self.chol) {
+            return false;
+        }
+        self.w.copy_from_slice(&self.u[..k]);
+        forward_solve(self.chol, k, self.w);
+        backward_solve(self.chol, k, self.w);
+        // z = -T_k^T w: z_j = -sum_{a <= min(j, k-1)} T[a, j] w_a.
+        for j in 0..n {
+            let rows = (j + 1).min(k);
+            z[j] = -dot(&self.t[j * n..j * n + rows], &self.w[..rows]);
+        }
+        true
+    }
+
+    /// `z^T (T^T T + lambda I)^-1 z = w^T G (G + lambda I)^-1 w` for `z = -T^T w` (push-through
+    /// identity): a sum of positive terms in G's eigenbasis, so no cancellation.
+    fn inverse_norm(&mut self, _z: &[f64], _q: &mut [f64]) -> f64 {
+        let k = self.k;
+        self.v.copy_from_slice(self.w);
+        forward_solve(self.chol, k, self.v);
+        backward_solve(self.chol, k, self.v);
+        let mut s = 0.0;
+        for a in 0..k {
+            s += self.w[a] * dot(&self.gram[a * k..(a + 1) * k], self.v);
+        }
+        s.max(0.0).sqrt()
+    }
+
+    fn bracket_data(&self) -> (f64, f64, f64) {
+        least_squares_bracket_data(self.t, self.u, self.n)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        least_squares_steepest_descent(self.t, self.u, self.n, z);
     }
 }
 
@@ -916,8 +1046,11 @@ impl Subproblem for QuadraticModel<'_> {
         true
     }
 
-    fn lower_solve(&self, q: &mut [f64]) {
-        forward_solve(self.chol, self.n, q);
+    fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+        let n = self.n;
+        q[..n].copy_from_slice(&z[..n]);
+        forward_solve(self.chol, n, q);
+        norm(&q[..n])
     }
 
     fn bracket_data(&self) -> (f64, f64, f64) {
@@ -1038,9 +1171,7 @@ fn trust_region(
             break;
         }
         // Newton step on 1/||z(lambda)|| - 1/radius (Hebden): needs ||L^-1 z||.
-        q[..n].copy_from_slice(&z[..n]);
-        sub.lower_solve(&mut q[..n]);
-        let nq = norm(&q[..n]);
+        let nq = sub.inverse_norm(z, q);
         lam += (nz / nq) * (nz / nq) * (nz - radius) / radius;
     }
     if have_best {
@@ -1548,6 +1679,12 @@ impl<'o> Descent<'o> {
             if reldx <= opt.false_conv_tol {
                 return TrialResult::Stop(Outcome::FalseConvergence);
             }
+            // A caller that refuses evaluations once its budget is spent would otherwise see
+            // the radius shrink step by step down to false convergence, each step a new
+            // factorization: ask at once whether it wants to stop.
+            if problem.should_stop() {
+                return TrialResult::Stop(Outcome::Interrupted);
+            }
             return TrialResult::Failed;
         }
         TrialResult::Evaluated(Trial {
@@ -1726,6 +1863,138 @@ fn iterate<P: Problem>(
         }
         if !assessment.accepted && assessment.switch_models {
             descent.model.retry_with_other(ws);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic upper-triangular `n x n` matrix whose rows from `k` on are zero (what the
+    /// QR of a `k`-row Jacobian gives), and a right-hand side zero from `k` on.
+    fn trapezoid(n: usize, k: usize) -> (Vec<f64>, Vec<f64>) {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let mut t = vec![0.0; n * n];
+        for j in 0..n {
+            for a in 0..=j.min(k - 1) {
+                t[j * n + a] = next() + if a == j { 3.0 } else { 0.0 };
+            }
+        }
+        let u = (0..n).map(|a| if a < k { next() } else { 0.0 }).collect();
+        (t, u)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn wide_model<'a>(
+        n: usize,
+        k: usize,
+        t: &'a [f64],
+        u: &'a [f64],
+        gram: &'a mut [f64],
+        chol: &'a mut [f64],
+        w: &'a mut [f64],
+        v: &'a mut [f64],
+    ) -> WideLeastSquaresModel<'a> {
+        WideLeastSquaresModel {
+            n,
+            k,
+            t,
+            u,
+            gram,
+            chol,
+            w,
+            v,
+        }
+        .with_gram()
+    }
+
+    /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.
+    #[test]
+    fn wide_model_matches_the_primal_model() {
+        for (n, k) in [(8, 3), (20, 7), (40, 39)] {
+            let (t, u) = trapezoid(n, k);
+            let mut t_lambda = vec![0.0; n * n];
+            let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; n]);
+            let mut primal = LeastSquaresModel {
+                n,
+                t: &t,
+                u: &u,
+                t_lambda: &mut t_lambda,
+                u_lambda: &mut u_lambda,
+                row: &mut row,
+            };
+            let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
+            let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            assert_eq!(primal.bracket_data(), wide.bracket_data());
+            assert!(wide.newton(&mut vec![0.0; n]).is_none());
+            for lam in [1e-3, 0.1, 1.0, 30.0, 1e4] {
+                let (mut zp, mut zw, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                assert!(primal.shifted(lam, &mut zp));
+                assert!(wide.shifted(lam, &mut zw));
+                let scale = norm(&zp);
+                for (a, b) in zp.iter().zip(&zw) {
+                    assert!(
+                        (a - b).abs() <= 1e-11 * scale,
+                        "n {n} k {k} lam {lam}: {a} {b}"
+                    );
+                }
+                let np = primal.inverse_norm(&zp, &mut q);
+                let nw = wide.inverse_norm(&zw, &mut q);
+                assert!(
+                    (np - nw).abs() <= 1e-9 * np,
+                    "n {n} k {k} lam {lam}: {np} {nw}"
+                );
+            }
+        }
+    }
+
+    /// The trust-region iteration ends at the same step with either model.
+    #[test]
+    fn wide_trust_region_step_matches_the_primal_one() {
+        let (n, k) = (30, 6);
+        let (t, u) = trapezoid(n, k);
+        let mut t_lambda = vec![0.0; n * n];
+        let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; n]);
+        let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
+        let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
+        let (mut best, mut q) = (vec![0.0; n], vec![0.0; n]);
+        for radius in [1e-3, 0.05, 0.5] {
+            let mut primal = LeastSquaresModel {
+                n,
+                t: &t,
+                u: &u,
+                t_lambda: &mut t_lambda,
+                u_lambda: &mut u_lambda,
+                row: &mut row,
+            };
+            let mut zp = vec![0.0; n];
+            let rp = trust_region(&mut primal, radius, 0.0, &mut zp, &mut best, &mut q);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            let mut zw = vec![0.0; n];
+            let rw = trust_region(&mut wide, radius, 0.0, &mut zw, &mut best, &mut q);
+            // Within the region; on its boundary unless the minimum-norm Gauss-Newton step (the
+            // limit lambda -> 0 of the singular model) is shorter.
+            assert!(
+                norm(&zw) <= radius * (1.0 + RADIUS_SLACK),
+                "radius {radius}"
+            );
+            assert!(
+                (rp.lambda - rw.lambda).abs() <= 1e-8 * rp.lambda.max(1e-12),
+                "radius {radius}: {} {}",
+                rp.lambda,
+                rw.lambda
+            );
+            for (a, b) in zp.iter().zip(&zw) {
+                assert!((a - b).abs() <= 1e-8 * radius, "radius {radius}: {a} {b}");
+            }
         }
     }
 }

@@ -96,6 +96,26 @@ fn no_singular_convergence_while_the_gradient_is_large() {
     assert!(rep.iterations > 1 && rep.f < 1e3, "{rep:?}");
 }
 
+/// Rosenbrock's residuals `(10 (x2 - x1^2), 1 - x1)`.
+fn rosenbrock(x: &[f64], r: &mut [f64]) -> bool {
+    r[0] = 10.0 * (x[1] - x[0] * x[0]);
+    r[1] = 1.0 - x[0];
+    true
+}
+
+/// Rosenbrock's Jacobian (column-major).
+fn rosenbrock_jacobian(x: &[f64], j: &mut [f64]) -> bool {
+    j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
+    true
+}
+
+/// Solves a two-parameter problem without bounds from `x` with the default options.
+fn solve_unbounded(prob: &mut impl Problem, x: &mut [f64; 2]) -> bounded_lm::Report {
+    Solver::new()
+        .solve(prob, x, &[-INF; 2], &[INF; 2], &Options::default())
+        .unwrap()
+}
+
 /// Stops after `limit` calls of the hook.
 struct Stopping {
     calls: usize,
@@ -109,13 +129,10 @@ impl Problem for Stopping {
         2
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
-        r[0] = 10.0 * (x[1] - x[0] * x[0]);
-        r[1] = 1.0 - x[0];
-        true
+        rosenbrock(x, r)
     }
     fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
-        j.copy_from_slice(&[-20.0 * x[0], -1.0, 10.0, 0.0]);
-        true
+        rosenbrock_jacobian(x, j)
     }
     fn should_stop(&mut self) -> bool {
         self.calls += 1;
@@ -127,15 +144,7 @@ impl Problem for Stopping {
 fn should_stop_interrupts_between_iterations() {
     let mut prob = Stopping { calls: 0, limit: 3 };
     let mut x = [-1.2, 1.0];
-    let rep = Solver::new()
-        .solve(
-            &mut prob,
-            &mut x,
-            &[-INF; 2],
-            &[INF; 2],
-            &Options::default(),
-        )
-        .unwrap();
+    let rep = solve_unbounded(&mut prob, &mut x);
     assert_eq!(rep.outcome, Outcome::Interrupted);
     assert_eq!(rep.outcome.code(), 11);
     assert!(!rep.outcome.is_success());
@@ -151,17 +160,123 @@ fn should_stop_interrupts_between_iterations() {
         limit: usize::MAX,
     };
     let mut x = [-1.2, 1.0];
-    let rep = Solver::new()
-        .solve(
-            &mut prob,
-            &mut x,
-            &[-INF; 2],
-            &[INF; 2],
-            &Options::default(),
-        )
-        .unwrap();
+    let rep = solve_unbounded(&mut prob, &mut x);
     assert!(rep.outcome.is_success());
     assert_eq!(prob.calls, rep.iterations);
+}
+
+/// Rosenbrock whose budget runs out after `budget` residual evaluations: from then on every
+/// evaluation fails and the stop hook says stop, as the search layer's trial context does when
+/// its CPU cutoff passes in the middle of an iteration.
+struct Refusing {
+    evaluations: usize,
+    budget: usize,
+    refused: usize,
+}
+impl Problem for Refusing {
+    fn residual_count(&self) -> usize {
+        2
+    }
+    fn parameter_count(&self) -> usize {
+        2
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        self.evaluations += 1;
+        if self.evaluations > self.budget {
+            self.refused += 1;
+            return false;
+        }
+        rosenbrock(x, r)
+    }
+    fn jacobian(&mut self, x: &[f64], j: &mut [f64]) -> bool {
+        rosenbrock_jacobian(x, j)
+    }
+    fn should_stop(&mut self) -> bool {
+        self.refused > 0
+    }
+}
+
+/// A failed evaluation asks the stop hook at once: the solver does not shrink the radius
+/// through a series of refused evaluations (each a new step computation) down to false
+/// convergence.
+#[test]
+fn a_refused_evaluation_ends_the_solve_when_the_caller_says_stop() {
+    for budget in [1, 5, 12] {
+        let mut prob = Refusing {
+            evaluations: 0,
+            budget,
+            refused: 0,
+        };
+        let mut x = [-1.2, 1.0];
+        let rep = solve_unbounded(&mut prob, &mut x);
+        assert_eq!(
+            rep.outcome,
+            Outcome::Interrupted,
+            "budget {budget}: {rep:?}"
+        );
+        assert_eq!(
+            prob.refused, 1,
+            "budget {budget}: stopped at the first refusal"
+        );
+        // x and f are the last accepted point's.
+        let mut r = [0.0; 2];
+        prob.budget = usize::MAX;
+        prob.residuals(&x, &mut r);
+        assert_eq!(rep.f, 0.5 * (r[0] * r[0] + r[1] * r[1]));
+    }
+}
+
+/// More parameters than residuals (a 25-row subsample of a 50-lobe model has 251): the
+/// Gauss-Newton model is singular and the trust-region step is solved in its dual form. The
+/// solve must still make progress and end with an honest code, never a success claim at a point
+/// where the gradient is large.
+struct Wide {
+    m: usize,
+    p: usize,
+}
+impl Wide {
+    fn entry(&self, i: usize, j: usize) -> f64 {
+        // A fixed, well-spread matrix: no two columns parallel.
+        (((i * 7 + j * 13) % 17) as f64 - 8.0) / 8.0 + if i == j % self.m { 2.0 } else { 0.0 }
+    }
+}
+impl Problem for Wide {
+    fn residual_count(&self) -> usize {
+        self.m
+    }
+    fn parameter_count(&self) -> usize {
+        self.p
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        // r_i = sum_j A_ij x_j + 0.1 x_i^2 (i < m) - 1: mildly nonlinear, zero residual reachable.
+        for (i, ri) in r.iter_mut().enumerate() {
+            let lin: f64 = (0..self.p).map(|j| self.entry(i, j) * x[j]).sum();
+            *ri = lin + 0.1 * x[i] * x[i] - 1.0;
+        }
+        true
+    }
+    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool {
+        for j in 0..self.p {
+            for i in 0..self.m {
+                jac[j * self.m + i] = self.entry(i, j) + if i == j { 0.2 * x[i] } else { 0.0 };
+            }
+        }
+        true
+    }
+}
+
+#[test]
+fn fewer_residuals_than_parameters_reach_a_zero_residual() {
+    for (m, p) in [(3, 8), (25, 251)] {
+        let mut prob = Wide { m, p };
+        let mut x = vec![0.5; p];
+        let (lo, hi) = (vec![-10.0; p], vec![10.0; p]);
+        let rep = Solver::new()
+            .solve(&mut prob, &mut x, &lo, &hi, &Options::default())
+            .unwrap();
+        assert!(rep.f < 1e-12, "m {m} p {p}: {rep:?}");
+        assert!(rep.outcome.is_success(), "m {m} p {p}: {rep:?}");
+    }
 }
 
 /// MGH, unbounded and boxed, from x0 and 10 x0: never a success code on a wrong answer, every

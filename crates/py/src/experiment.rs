@@ -43,7 +43,8 @@ struct Ran {
 /// threads (default: the spec's, else all CPUs); fresh: move old results aside; limit: run at
 /// most this many new trials; plots: draw the plots; kernel: overrides the spec's.
 ///
-/// Returns a dict: out, new_trials, resumed, missing, notes, table, files. Releases the GIL;
+/// Returns a dict: out, new_trials, resumed, missing, notes, warnings (targets close to the
+/// best-known RMSE), table, files. Releases the GIL;
 /// Ctrl-C stops the trials in flight (none of them is stored) and raises KeyboardInterrupt;
 /// running again resumes.
 #[pyfunction]
@@ -59,7 +60,7 @@ pub fn run(
     plots: bool,
     kernel: Option<&str>,
 ) -> PyResult<Py<PyAny>> {
-    let loaded = match &spec {
+    let mut loaded = match &spec {
         Some(p) => py
             .detach(|| Spec::from_file(p))
             .map_err(|e| input_err(chain(e.into())))?,
@@ -77,8 +78,14 @@ pub fn run(
         Some(k) => k.parse().map_err(input_err)?,
         None => loaded.kernel,
     };
+    let out = out.unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem));
+    // As `brdf-sls run`: relative targets need the best-known RMSEs (recorded or computed).
+    let warnings = py
+        .detach(|| harness::best_known::resolve_for_run(&mut loaded, Some(&out)))
+        .context("finding the best-known RMSEs")
+        .map_err(classify)?;
     let args = RunArgs {
-        out: out.unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem)),
+        out,
         threads,
         fresh,
         limit,
@@ -92,6 +99,7 @@ pub fn run(
     d.set_item("resumed", ran.resumed)?;
     d.set_item("missing", ran.missing)?;
     d.set_item("notes", ran.notes)?;
+    d.set_item("warnings", warnings)?;
     d.set_item("table", ran.table)?;
     d.set_item("files", ran.files)?;
     Ok(d.into_any().unbind())
@@ -173,10 +181,11 @@ fn classify(e: anyhow::Error) -> PyErr {
 /// Python objects (`brdf_sls.read_results` flattens them into records).
 ///
 /// Returns a dict: header, spec_name, planned, records (one dict per trial: key, instance,
-/// config, trial, seed, target, budget, result), stats (configs, tests, finals), torn.
+/// config, trial, seed, target, budget, result), stats (configs, tests, finals), torn,
+/// warnings.
 #[pyfunction]
 pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
-    let (contents, spec, stats) = py.detach(|| load_stats(&dir))?;
+    let (contents, spec, stats, warnings) = py.detach(|| load_stats(&dir))?;
     let d = PyDict::new(py);
     d.set_item("header", to_python(py, &contents.header)?)?;
     d.set_item("spec_name", spec.name.clone())?;
@@ -186,13 +195,20 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
     d.set_item("records", to_python(py, &contents.records)?)?;
     d.set_item("stats", to_python(py, &stats)?)?;
     d.set_item("torn", contents.torn.as_ref().map(Vec::len))?;
+    d.set_item("warnings", warnings)?;
     Ok(d.into_any().unbind())
 }
 
+/// A folder's contents, its spec, its statistics and warnings.
+type Loaded = (
+    harness::store::Contents,
+    Spec,
+    harness::stats::StatsReport,
+    Vec<String>,
+);
+
 /// The folder's contents, its spec and its statistics, as `brdf-sls stats DIR` computes them.
-fn load_stats(
-    dir: &Path,
-) -> PyResult<(harness::store::Contents, Spec, harness::stats::StatsReport)> {
+fn load_stats(dir: &Path) -> PyResult<Loaded> {
     let contents = read_store(dir)
         .with_context(|| format!("reading results in {}", dir.display()))
         .map_err(|e| {
@@ -204,7 +220,22 @@ fn load_stats(
                 run_err(message)
             }
         })?;
-    let spec = harness::report::stored_spec(&contents, dir).map_err(input_err)?;
+    let mut spec = harness::report::stored_spec(&contents, dir).map_err(input_err)?;
+    // As `brdf-sls stats`: the recorded best-known RMSEs (computed for older folders). Only
+    // relative targets need them; without those, a folder whose data cannot be found again
+    // (older folders store data paths relative to the spec) is still read, with a warning.
+    let mut warnings = Vec::new();
+    if let Err(e) = harness::best_known::resolve(&mut spec, contents.best_known()) {
+        let e = anyhow::Error::from(e).context("finding the best-known RMSEs");
+        if spec
+            .instances
+            .iter()
+            .any(|i| !i.relative_targets.is_empty())
+        {
+            return Err(classify(e));
+        }
+        warnings.push(format!("no best-known RMSEs: {}", chain(e)));
+    }
     let stats = harness::report::compute_stats(&spec, &contents.records);
-    Ok((contents, spec, stats))
+    Ok((contents, spec, stats, warnings))
 }

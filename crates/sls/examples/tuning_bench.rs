@@ -5,8 +5,10 @@
 //! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
+//!     [--adaptive]
 //! ```
-//! `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
+//! `--adaptive` runs the descents with NL2SOL's adaptive model choice (N2FB's) instead of the
+//! Gauss-Newton model. `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -36,6 +38,7 @@ struct Args {
     instance: String,
     sigma: f64,
     early_exit: bool,
+    adaptive: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -53,6 +56,7 @@ fn parse() -> Result<Args, String> {
         instance: "tuning".into(),
         sigma: 0.1,
         early_exit: true,
+        adaptive: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -62,6 +66,10 @@ fn parse() -> Result<Args, String> {
         }
         if flag == "--overshoot" {
             a.overshoot = true;
+            continue;
+        }
+        if flag == "--adaptive" {
+            a.adaptive = true;
             continue;
         }
         if flag == "--no-early-exit" {
@@ -239,6 +247,9 @@ fn main() {
             for seed in 1..=args.seeds {
                 let mut ctx = TrialContext::new(&objective, seed, budget, args.target);
                 ctx.set_early_exit(args.early_exit);
+                if args.adaptive {
+                    ctx.set_step_model(bounded_lm::StepModel::Adaptive);
+                }
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

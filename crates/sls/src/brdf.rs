@@ -2,7 +2,9 @@
 
 use crate::SearchRng;
 use crate::objective::{Objective, Rows};
-use brdf_model::{DataSet, Evaluator, Kernel, KernelError, Layout, Subsampler};
+use brdf_model::{DataSet, Evaluator, ExponentCoord, Kernel, KernelError, Layout, Subsampler};
+use rand::RngExt;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Fitting a Lafortune BRDF ([`Layout`]) to a data set by RMSE, in the layout's internal
@@ -13,12 +15,52 @@ use std::sync::Arc;
 /// `[0, ln(1 + n_max)]`, so most picks have moderate `n` and can be evaluated (uniform `n` in
 /// `[0, 10000]` leaves about half the picks unevaluable on the tuning instance: `d^n`
 /// overflows for `d > 1`). With `ExponentCoord::Raw` the pick is uniform in `n`, as in the paper.
+/// [`BrdfObjective::with_starts`] chooses the exponent's start distribution independently of
+/// the coordinate the descent works in (the ablation of coordinates against starts).
 #[derive(Clone, Debug)]
 pub struct BrdfObjective {
     data: Arc<DataSet>,
     layout: Layout,
     /// The concrete evaluation kernel every workspace uses.
     kernel: Kernel,
+    /// How random picks draw each exponent.
+    starts: StartDist,
+}
+
+/// The distribution of an exponent `n` in random picks (starts); every other parameter is
+/// uniform in its bounds whatever this says.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartDist {
+    /// Uniform in the optimiser's coordinate: log-uniform (`ln(1 + n)` uniform) with
+    /// `ExponentCoord::Log1p`, uniform in `n` with `ExponentCoord::Raw`.
+    #[default]
+    Coordinate,
+    /// `n` uniform in its bounds (the paper's starts), whatever the coordinate.
+    Uniform,
+    /// `ln(1 + n)` uniform in the image of the bounds, whatever the coordinate.
+    LogUniform,
+}
+
+impl StartDist {
+    /// The same distribution spelled as the explicit choice it is under `coord`
+    /// (`Coordinate` becomes `Uniform` or `LogUniform`).
+    pub fn resolve(self, coord: ExponentCoord) -> StartDist {
+        match (self, coord) {
+            (StartDist::Coordinate, ExponentCoord::Raw) => StartDist::Uniform,
+            (StartDist::Coordinate, ExponentCoord::Log1p) => StartDist::LogUniform,
+            (other, _) => other,
+        }
+    }
+
+    /// The name used in specs and notes (`"uniform"`, `"log-uniform"`, `"coordinate"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StartDist::Coordinate => "coordinate",
+            StartDist::Uniform => "uniform",
+            StartDist::LogUniform => "log-uniform",
+        }
+    }
 }
 
 /// Per-trial scratch of a [`BrdfObjective`].
@@ -38,6 +80,7 @@ impl BrdfObjective {
             data,
             layout,
             kernel: Kernel::Auto.resolve().unwrap_or(Kernel::Portable),
+            starts: StartDist::Coordinate,
         }
     }
 
@@ -55,7 +98,33 @@ impl BrdfObjective {
             data,
             layout,
             kernel: kernel.resolve()?,
+            starts: StartDist::Coordinate,
         })
+    }
+
+    /// The same problem with exponents in random picks drawn from `starts` (the descent's
+    /// coordinate is the layout's and does not change).
+    pub fn with_starts(mut self, starts: StartDist) -> Self {
+        self.starts = starts;
+        self
+    }
+
+    /// The start distribution of the exponents.
+    pub fn starts(&self) -> StartDist {
+        self.starts
+    }
+
+    /// One exponent in the optimiser's coordinate, drawn from `dist` (resolved, so `Uniform`
+    /// or `LogUniform`) between the internal bounds `lo..=hi`. One draw per call either way,
+    /// so the random stream stays aligned with the other parameters'.
+    fn pick_exponent(&self, dist: StartDist, rng: &mut SearchRng, lo: f64, hi: f64) -> f64 {
+        let coord = self.layout.exponent_coord();
+        let (plo, phi) = (coord.to_physical(lo), coord.to_physical(hi));
+        let n = match dist {
+            StartDist::LogUniform => rng.random_range(plo.ln_1p()..=phi.ln_1p()).exp_m1(),
+            _ => rng.random_range(plo..=phi),
+        };
+        coord.to_internal(n).clamp(lo, hi)
     }
 
     /// The concrete kernel in use (never [`Kernel::Auto`]); `kernel().name()` (`"avx512"`,
@@ -102,6 +171,24 @@ impl Objective for BrdfObjective {
 
     fn sample_count(&self) -> usize {
         self.data.len()
+    }
+
+    fn random_pick(&self, rng: &mut SearchRng, x: &mut [f64]) {
+        let dist = self.starts.resolve(self.layout.exponent_coord());
+        let native = StartDist::Coordinate.resolve(self.layout.exponent_coord());
+        let (lower, upper) = (self.layout.lower(), self.layout.upper());
+        for (i, xi) in x.iter_mut().enumerate() {
+            let (lo, hi) = (lower[i], upper[i]);
+            *xi = if hi <= lo {
+                lo
+            } else if dist != native && self.layout.is_exponent(i) {
+                self.pick_exponent(dist, rng, lo, hi)
+            } else {
+                // The default path draws exactly as `Objective::random_pick` does, so seeded
+                // results of existing experiments do not change.
+                rng.random_range(lo..=hi)
+            };
+        }
     }
 
     fn rmse(&self, ws: &mut BrdfWorkspace, x: &[f64]) -> f64 {
@@ -163,5 +250,77 @@ impl Objective for BrdfObjective {
         } else {
             v
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use brdf_model::{ExponentCoord, LobeKind};
+    use rand::SeedableRng;
+
+    /// Median of the exponent `n` over many picks of a one-lobe objective.
+    fn median_n(coord: ExponentCoord, starts: StartDist) -> f64 {
+        let layout = Layout::builder(&[LobeKind::Isotropic])
+            .exponent_coord(coord)
+            .build()
+            .unwrap();
+        let data = Arc::new(brdf_model::synthetic(
+            &brdf_model::named_params("paper-bluepaint").unwrap(),
+            10,
+            0.0,
+            1,
+        ));
+        let obj = BrdfObjective::new(data, layout.clone()).with_starts(starts);
+        let mut rng = SearchRng::seed_from_u64(5);
+        let mut x = vec![0.0; obj.dim()];
+        let mut ns: Vec<f64> = (0..2001)
+            .map(|_| {
+                obj.random_pick(&mut rng, &mut x);
+                let n = layout.decode(&x).lobes[0].n;
+                assert!((0.0..=10_000.0).contains(&n), "{n}");
+                n
+            })
+            .collect();
+        ns.sort_by(f64::total_cmp);
+        ns[1000]
+    }
+
+    #[test]
+    fn starts_are_independent_of_the_coordinate() {
+        // Uniform n in [0, 10000] has median 5000; log-uniform has median e^(ln 10001 / 2) - 1
+        // = 99. Each distribution must come out the same in both coordinates.
+        for coord in [ExponentCoord::Raw, ExponentCoord::Log1p] {
+            let u = median_n(coord, StartDist::Uniform);
+            let l = median_n(coord, StartDist::LogUniform);
+            assert!(
+                (4500.0..5500.0).contains(&u),
+                "{coord:?} uniform median {u}"
+            );
+            assert!(
+                (70.0..140.0).contains(&l),
+                "{coord:?} log-uniform median {l}"
+            );
+        }
+        let raw_native = median_n(ExponentCoord::Raw, StartDist::Coordinate);
+        assert_eq!(raw_native, median_n(ExponentCoord::Raw, StartDist::Uniform));
+        let log_native = median_n(ExponentCoord::Log1p, StartDist::Coordinate);
+        assert!((70.0..140.0).contains(&log_native), "{log_native}");
+    }
+
+    #[test]
+    fn resolve_names_the_native_distribution() {
+        assert_eq!(
+            StartDist::Coordinate.resolve(ExponentCoord::Raw),
+            StartDist::Uniform
+        );
+        assert_eq!(
+            StartDist::Coordinate.resolve(ExponentCoord::Log1p),
+            StartDist::LogUniform
+        );
+        assert_eq!(
+            StartDist::Uniform.resolve(ExponentCoord::Log1p),
+            StartDist::Uniform
+        );
     }
 }

@@ -158,12 +158,10 @@ impl<O: Objective> Problem for Fit<'_, O> {
     }
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
         if self.meter.charge(Kind::Residual, self.rows).is_err() {
-            // The trial is over and `descend` discards this descent. A failed evaluation would
-            // make the solver shrink its radius and retry, recomputing a step (up to ~20 times,
-            // seconds with many parameters) without asking `should_stop`; zero residuals are
-            // accepted and end the solve at once (absolute function convergence).
-            r.fill(0.0);
-            return true;
+            // The trial is over and `descend` discards this descent. The solver asks
+            // `should_stop` after a failed evaluation, which ends the solve at once (code 11)
+            // instead of shrinking the radius and retrying.
+            return false;
         }
         self.objective.residuals(self.work, x, r)
     }
@@ -265,6 +263,14 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// e.g. on Ctrl-C; a trial whose flag is never raised is unchanged.
     pub fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
         self.meter.interrupt = Some(flag);
+    }
+
+    /// The descent's step model: Gauss-Newton (the default) or NL2SOL's adaptive choice between
+    /// it and the augmented model, as in PORT's N2FB. On the paper's tuning instance the
+    /// adaptive model made AED, AERS and RPLS slower (bounded-lm's crate docs, "Step model in
+    /// the searches"), so it is an option for comparisons, not the default.
+    pub fn set_step_model(&mut self, model: bounded_lm::StepModel) {
+        self.options.model = model;
     }
 
     /// The evaluations counted so far.

@@ -47,7 +47,7 @@ pub use algorithms::{
     AedConfig, AersConfig, AsaConfig, AvgConfig, DsConfig, Perturbation, RplsConfig, SaConfig,
     SalsConfig,
 };
-pub use brdf::{BrdfObjective, BrdfWorkspace};
+pub use brdf::{BrdfObjective, BrdfWorkspace, StartDist};
 pub use config::AlgorithmConfig;
 pub use context::{TrialContext, run_trial, run_trial_interruptible};
 pub use objective::{Objective, Rows};

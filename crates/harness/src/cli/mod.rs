@@ -50,6 +50,9 @@ pub enum Command {
     Plot(ResultsArgs),
     /// Recompute and print the statistics of stored results.
     Stats(ResultsArgs),
+    /// Export stored results to another tool's format (`--format ioh`: IOHprofiler's JSON and
+    /// .dat files, which IOHanalyzer and iohinspector load).
+    Export(ExportArgs),
     /// Fit one data set with one algorithm and print the fitted parameters, RMSE and time.
     Fit(FitArgs),
     /// Write a synthetic instance to CSV (a named instance or parameters given as flags).
@@ -137,6 +140,28 @@ pub struct ResultsArgs {
     /// `stats` only: print the statistics without writing any file (e.g. a read-only folder).
     #[arg(long)]
     pub print_only: bool,
+}
+
+/// Export formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ExportFormat {
+    /// IOHprofiler's format: one JSON meta file per (configuration, instance) and .dat files
+    /// of the runs (see `harness::export`).
+    Ioh,
+}
+
+/// `brdf-sls export`.
+#[derive(Args)]
+pub struct ExportArgs {
+    /// A results directory, or a trials.jsonl(.gz) file (the spec stored with the results is
+    /// used).
+    pub dir: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output directory (default: <DIR>/ioh/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// `brdf-sls bench`.

@@ -3,13 +3,13 @@
 use anyhow::Result;
 use harness::run::default_threads;
 
-use super::shared::{default_out, load_spec};
+use super::shared::{default_out, load_spec, resolve_best_known};
 use super::{input_error, say};
 use crate::cli::CheckArgs;
 
 /// `brdf-sls check`.
 pub fn check(a: CheckArgs) -> Result<()> {
-    let spec = load_spec(&a.spec)?;
+    let mut spec = load_spec(&a.spec)?;
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     say!("{}", spec.describe(threads).trim_end());
     for i in &spec.instances {
@@ -23,6 +23,8 @@ pub fn check(a: CheckArgs) -> Result<()> {
             )));
         }
     }
+    resolve_best_known(&mut spec, None)?;
+    say!("{}", harness::best_known::summary(&spec).trim_end());
     say!("fingerprint {}", spec.fingerprint());
     say!(
         "default results directory: {}",

@@ -9,6 +9,7 @@ use crate::cli::Command;
 mod bench;
 mod check;
 mod data;
+mod export;
 mod fit;
 mod merge;
 mod polar;
@@ -28,6 +29,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Check(a) => check::check(a),
         Command::Plot(a) => results::results(a, true),
         Command::Stats(a) => results::results(a, false),
+        Command::Export(a) => export::export(a),
         Command::Fit(a) => fit::fit(a),
         Command::Gen(a) => data::generate(a),
         Command::Eval(a) => data::eval(a),

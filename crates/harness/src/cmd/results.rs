@@ -35,7 +35,7 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     };
     let contents =
         read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
-    let spec = match spec {
+    let mut spec = match spec {
         Some(s) => {
             if s.fingerprint() != contents.header.fingerprint {
                 return Err(input_error(format!(
@@ -53,6 +53,12 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             Err(e) => return Err(input_error(e.to_string())),
         },
     };
+    // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
+    harness::best_known::resolve(&mut spec, contents.best_known())
+        .context("finding the best-known RMSEs")?;
+    for w in harness::best_known::warnings(&spec) {
+        note!("{w}");
+    }
     if let Some(t) = &contents.torn {
         note!("note: ignoring a torn last line ({} bytes)", t.len());
     }
@@ -66,6 +72,7 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     if a.print_only {
         let stats = harness::report::compute_stats(&spec, &contents.records);
         say!("{}", harness::stats::table(&stats));
+        say!("{}", harness::best_known::summary(&spec).trim_end());
         return Ok(());
     }
     let report =

@@ -5,13 +5,13 @@ use harness::run::{Executor, RunOptions, SlsExecutor, default_threads, run_shard
 use harness::spec::Spec;
 use harness::store::read_results;
 
-use super::shared::{default_out, load_spec};
+use super::shared::{default_out, load_spec, resolve_best_known};
 use super::{input_error, note, say};
 use crate::cli::RunArgs;
 
 /// `brdf-sls run`.
 pub fn run(a: RunArgs) -> Result<()> {
-    let spec = match &a.spec {
+    let mut spec = match &a.spec {
         Some(p) => load_spec(p)?,
         None => Spec::default_experiment(),
     };
@@ -22,6 +22,7 @@ pub fn run(a: RunArgs) -> Result<()> {
             None => base,
         }
     });
+    resolve_best_known(&mut spec, Some(&out))?;
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     if threads == 0 {
         return Err(input_error("--threads must be at least 1"));

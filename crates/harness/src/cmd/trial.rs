@@ -67,7 +67,8 @@ pub fn trial(a: TrialArgs) -> Result<()> {
         built.data.clone(),
         built.layout.clone(),
         spec.kernel.resolve()?,
-    )?;
+    )?
+    .with_starts(instance.model.starts);
     let r = sls::run_trial(
         &objective,
         &config,

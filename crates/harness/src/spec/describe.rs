@@ -48,10 +48,11 @@ impl Spec {
                 .map(|k| format!("{k:?}").to_lowercase())
                 .collect();
             s.push_str(&format!(
-                "  {}: {src}; model [{}], exponent {:?}{}; targets {:?}\n",
+                "  {}: {src}; model [{}], exponent {:?}, starts {}{}; targets {:?}\n",
                 i.name,
                 kinds.join(", "),
                 i.model.exponent,
+                i.model.starts.resolve(i.model.exponent).name(),
                 if i.model.fixed.is_empty() {
                     String::new()
                 } else {
@@ -59,6 +60,14 @@ impl Spec {
                 },
                 i.targets
             ));
+            if !i.relative_targets.is_empty() {
+                let rel: Vec<String> = i
+                    .relative_targets
+                    .iter()
+                    .map(|r| format!("best-known x {}", 1.0 + r))
+                    .collect();
+                s.push_str(&format!("    relative targets: {}\n", rel.join(", ")));
+            }
         }
         s.push_str(&format!(
             "configurations ({}):\n",

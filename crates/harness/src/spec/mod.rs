@@ -21,6 +21,7 @@
 //! [[instance]]                   # one or more
 //! name = "tuning"
 //! targets = [0.11, 0.115, 0.12]  # trials run to the lowest; the others come from the traces
+//! #                              # an entry { relative = 0.01 } is 1% above the best-known RMSE
 //! [instance.synthetic]           # either synthetic ...
 //! params = "tuning"              # "tuning", "cross", "paper-bluepaint", "pbrt-bluepaint", or
 //!                                # { kd = 0.15, lobes = [{ cx = -1, cy = 0.8, cz = 0.96, n = 20, pan_deg = 45 }] }
@@ -40,6 +41,8 @@
 //! kind = "anisotropic"           # or "isotropic" (Cxy, Cz, n; no pan)
 //! # kinds = ["anisotropic", "isotropic"]   # per lobe, overrides lobes/kind
 //! exponent = "log1p"             # optimiser coordinate of n: "log1p" (default) or "raw"
+//! starts = "coordinate"          # exponent in random starts: "coordinate" (default: uniform in
+//!                                # the coordinate above), "uniform" (in n), "log-uniform"
 //! fixed = { "lobe1.pan" = 45.0 } # parameters held fixed
 //! bounds = { "lobe1.n" = [0.0, 200.0] }   # bounds overriding Table 1
 //!
@@ -237,6 +240,10 @@ pub struct ModelSpec {
     pub kinds: Vec<LobeKind>,
     /// Exponent coordinate.
     pub exponent: ExponentCoord,
+    /// Start distribution of the exponents (`Coordinate`: uniform in the coordinate). Left out
+    /// of the canonical form when it is the default, so older fingerprints stay valid.
+    #[serde(skip_serializing_if = "is_native_starts")]
+    pub starts: sls::StartDist,
     /// Fixed parameters by name.
     pub fixed: BTreeMap<String, f64>,
     /// Bounds overrides by name.
@@ -249,6 +256,7 @@ impl ModelSpec {
         ModelSpec {
             kinds: vec![kind; lobes],
             exponent: ExponentCoord::default(),
+            starts: sls::StartDist::Coordinate,
             fixed: BTreeMap::new(),
             bounds: BTreeMap::new(),
         }
@@ -267,13 +275,26 @@ impl ModelSpec {
     }
 }
 
+fn is_native_starts(s: &sls::StartDist) -> bool {
+    *s == sls::StartDist::Coordinate
+}
+
 /// One instance of an experiment.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InstanceSpec {
     /// Name (used in trial keys, seeds and file names).
     pub name: String,
-    /// Target RMSEs, ascending; trials run to the first.
+    /// Target RMSEs, ascending; trials run to the first. The absolute targets as written, plus
+    /// the relative ones once [`Spec::resolve_targets`] knows the best-known RMSE.
     pub targets: Vec<f64>,
+    /// The absolute targets as written, ascending.
+    pub absolute_targets: Vec<f64>,
+    /// Relative targets as written (`{ relative = r }`: best-known RMSE times `1 + r`),
+    /// ascending.
+    pub relative_targets: Vec<f64>,
+    /// The best-known RMSE of this instance, once computed or read back
+    /// ([`crate::best_known`]).
+    pub best_known: Option<crate::best_known::BestKnown>,
     /// The data.
     pub source: Source,
     /// The model to fit.
@@ -281,9 +302,52 @@ pub struct InstanceSpec {
 }
 
 impl InstanceSpec {
-    /// The target trials run to (the lowest).
+    /// The target trials run to (the lowest); NaN while relative targets are unresolved and
+    /// no absolute target is given (a NaN target is never reached, so nothing runs to it).
     pub fn run_target(&self) -> f64 {
-        self.targets[0]
+        self.targets.first().copied().unwrap_or(f64::NAN)
+    }
+
+    /// The run target in the fingerprint: the lowest absolute target as before when there are
+    /// no relative targets (older fingerprints stay valid); otherwise both lowest values as
+    /// written, so the fingerprint does not depend on the best-known RMSE's last bits.
+    pub fn canonical_run_target(&self) -> serde_json::Value {
+        if self.relative_targets.is_empty() {
+            return serde_json::json!(self.absolute_targets.first());
+        }
+        serde_json::json!({
+            "absolute": self.absolute_targets.first(),
+            "relative": self.relative_targets.first(),
+        })
+    }
+
+    /// The text naming target `t` in file names: the number for an absolute target,
+    /// `rel<r>` for a resolved relative one (its value depends on the best-known RMSE's last
+    /// bits, which make poor file names).
+    pub fn target_label(&self, t: f64) -> String {
+        if self.absolute_targets.contains(&t) {
+            return format!("{t}");
+        }
+        let bk = self.best_known.as_ref().map(|b| b.rmse);
+        match self
+            .relative_targets
+            .iter()
+            .find(|&&r| bk.is_some_and(|bk| bk * (1.0 + r) == t))
+        {
+            Some(r) => format!("rel{r}"),
+            None => format!("{t}"),
+        }
+    }
+
+    /// Sets the best-known RMSE and resolves the relative targets against it (idempotent).
+    pub fn resolve_targets(&mut self, known: crate::best_known::BestKnown) {
+        let best_known = known.rmse;
+        self.best_known = Some(known);
+        let mut all = self.absolute_targets.clone();
+        all.extend(self.relative_targets.iter().map(|r| best_known * (1.0 + r)));
+        all.sort_by(f64::total_cmp);
+        all.dedup();
+        self.targets = all;
     }
 }
 
@@ -471,6 +535,18 @@ impl Spec {
         let configurations = sweep::configurations(&cx, raw.algorithms)?;
         validate::options(&cx, &raw.plots, &raw.stats)?;
         validate::plan_size(&cx, raw.trials, instances.len(), configurations.len())?;
+        if raw.tune.is_some()
+            && let Some(i) = instances.iter().find(|i| !i.relative_targets.is_empty())
+        {
+            return Err(SpecError::Invalid {
+                path: origin.to_string(),
+                line: None,
+                message: format!(
+                    "instance `{}`: relative targets are not supported with [tune]; give absolute `targets`",
+                    i.name
+                ),
+            });
+        }
         let tune = match raw.tune {
             Some(t) => Some(validate::tune(
                 &cx,
@@ -510,6 +586,21 @@ impl Spec {
     /// Instance names in order.
     pub fn instance_names(&self) -> Vec<String> {
         self.instances.iter().map(|i| i.name.clone()).collect()
+    }
+
+    /// True when some instance has relative targets not yet resolved.
+    pub fn has_unresolved_targets(&self) -> bool {
+        self.instances
+            .iter()
+            .any(|i| !i.relative_targets.is_empty() && i.best_known.is_none())
+    }
+
+    /// The best-known RMSE of every instance that has one, by name (recorded with results).
+    pub fn best_known(&self) -> BTreeMap<String, crate::best_known::BestKnown> {
+        self.instances
+            .iter()
+            .filter_map(|i| Some((i.name.clone(), i.best_known.clone()?)))
+            .collect()
     }
 
     /// Each instance's targets.
@@ -679,6 +770,74 @@ kind = "rpls"
             "sigma = 0.1\n[instance.model]\nfixed = { \"lobe1.foo\" = 1.0 }",
         ));
         assert!(e.contains("lobe1.foo") && e.contains("t.toml:17:"), "{e}");
+    }
+
+    #[test]
+    fn relative_targets_parse_and_bad_ones_name_the_key() {
+        let s = parse(&MINI.replace(
+            "targets = [0.12, 0.11]",
+            "targets = [{ relative = 0.05 }, 0.12, { relative = 0.01 }]",
+        ))
+        .unwrap();
+        let i = &s.instances[0];
+        assert_eq!(i.relative_targets, vec![0.01, 0.05]);
+        assert_eq!(i.absolute_targets, vec![0.12]);
+        assert!(s.has_unresolved_targets());
+        // The fingerprint holds the relative value as written.
+        assert_ne!(s.fingerprint(), parse(MINI).unwrap().fingerprint());
+        for (entry, needle) in [
+            (
+                "{ relative = -0.01 }",
+                "`targets[0].relative` must be a finite fraction",
+            ),
+            (
+                "{ relative = 0.01, absolute = 0.1 }",
+                "`targets[0]`: `relative` and `absolute`",
+            ),
+            (
+                "{ relative = \"1%\" }",
+                "`targets[0].relative` must be a number",
+            ),
+            ("{ relatve = 0.01 }", "`targets[0]`: unknown key `relatve`"),
+            ("{}", "`targets[0]`: empty table"),
+            ("\"0.1\"", "`targets[0]` must be a number or a table"),
+            (
+                "{ absolute = -1 }",
+                "`targets[0].absolute` must be a finite RMSE",
+            ),
+        ] {
+            let e = err(&MINI.replace("targets = [0.12, 0.11]", &format!("targets = [{entry}]")));
+            assert!(
+                e.contains(needle) && e.contains("t.toml:11:"),
+                "{entry}: {e}"
+            );
+        }
+        let tuned = format!(
+            "{}\n[tune]\ntrain = [\"tuning\"]\ntest = [\"tuning\"]\nbudget = 100\ncost = \"evaluations\"\n[[tune.parameter]]\nname = \"phi\"\ntype = \"real\"\nrange = [1.0, 2.0]\n",
+            MINI.replace("targets = [0.12, 0.11]", "targets = [{ relative = 0.01 }]")
+        );
+        assert!(err(&tuned).contains("relative targets are not supported with [tune]"));
+    }
+
+    #[test]
+    fn starts_are_validated_and_the_default_keeps_the_fingerprint() {
+        let with = |model: &str| {
+            parse(&MINI.replace(
+                "sigma = 0.1",
+                &format!("sigma = 0.1\n[instance.model]\n{model}"),
+            ))
+        };
+        let base = with("exponent = \"log1p\"").unwrap();
+        let same = with("exponent = \"log1p\"\nstarts = \"log-uniform\"").unwrap();
+        let uniform = with("exponent = \"log1p\"\nstarts = \"uniform\"").unwrap();
+        assert_eq!(base.fingerprint(), same.fingerprint());
+        assert_eq!(base.fingerprint(), parse(MINI).unwrap().fingerprint());
+        assert_ne!(base.fingerprint(), uniform.fingerprint());
+        assert_eq!(uniform.instances[0].model.starts, sls::StartDist::Uniform);
+        let raw = with("exponent = \"raw\"\nstarts = \"uniform\"").unwrap();
+        assert_eq!(raw.instances[0].model.starts, sls::StartDist::Coordinate);
+        let e = with("starts = \"gaussian\"").unwrap_err().to_string();
+        assert!(e.contains("gaussian") && e.contains("starts"), "{e}");
     }
 
     #[test]

@@ -12,7 +12,7 @@ impl Spec {
             .map(|i| {
                 serde_json::json!({
                     "name": i.name,
-                    "run_target": i.run_target(),
+                    "run_target": i.canonical_run_target(),
                     "source": i.source,
                     "model": i.model,
                 })

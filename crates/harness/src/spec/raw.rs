@@ -52,7 +52,8 @@ pub(super) struct RawBudget {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawInstance {
     pub(super) name: Spanned<String>,
-    pub(super) targets: Spanned<Vec<f64>>,
+    /// Numbers (absolute RMSEs) or `{ relative = r }` tables (see `validate::targets`).
+    pub(super) targets: Spanned<Vec<toml::Value>>,
     pub(super) synthetic: Option<RawSynthetic>,
     pub(super) file: Option<Spanned<FileSpec>>,
     #[serde(default)]
@@ -85,6 +86,7 @@ pub(super) struct RawModel {
     pub(super) kind: Option<LobeKind>,
     pub(super) kinds: Option<Vec<LobeKind>>,
     pub(super) exponent: Option<ExponentCoord>,
+    pub(super) starts: Option<sls::StartDist>,
     pub(super) fixed: Option<Spanned<BTreeMap<String, f64>>>,
     pub(super) bounds: Option<Spanned<BTreeMap<String, Vec<f64>>>>,
 }

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use brdf_model::{BrdfParams, LobeKind};
+use brdf_model::{BrdfParams, ExponentCoord, LobeKind};
 use sls::Budget;
 use toml::Spanned;
 
@@ -111,7 +111,7 @@ fn instance(cx: &Ctx<'_>, ri: RawInstance, base_dir: &Path) -> Result<InstanceSp
             format!("instance `{name}`: `name` must be non-empty and contain no '/'"),
         ));
     }
-    let targets = targets(cx, &name, ri.targets)?;
+    let (targets, relative_targets) = targets(cx, &name, ri.targets)?;
     let source = match (ri.synthetic, ri.file) {
         (Some(s), None) => synthetic(cx, &name, line, s)?,
         (None, Some(f)) => file(cx, &name, f, base_dir)?,
@@ -127,29 +127,96 @@ fn instance(cx: &Ctx<'_>, ri: RawInstance, base_dir: &Path) -> Result<InstanceSp
     let model = model(cx, &name, line, ri.model, &source)?;
     Ok(InstanceSpec {
         name,
+        absolute_targets: targets.clone(),
         targets,
+        relative_targets,
+        best_known: None,
         source,
         model,
     })
 }
 
-fn targets(cx: &Ctx<'_>, name: &str, raw: Spanned<Vec<f64>>) -> Result<Vec<f64>, SpecError> {
+/// The targets as written: absolute RMSEs and relative ones (`{ relative = r }`: the
+/// instance's best-known RMSE times `1 + r`), each ascending and without duplicates.
+fn targets(
+    cx: &Ctx<'_>,
+    name: &str,
+    raw: Spanned<Vec<toml::Value>>,
+) -> Result<(Vec<f64>, Vec<f64>), SpecError> {
     let line = cx.line(&raw);
-    let mut targets = raw.into_inner();
-    if targets.is_empty()
-        || targets.len() > MAX_TARGETS
-        || targets.iter().any(|t| !(t.is_finite() && *t >= 0.0))
-    {
+    let entries = raw.into_inner();
+    if entries.is_empty() || entries.len() > MAX_TARGETS {
         return Err(cx.invalid(
             line,
             format!(
-                "instance `{name}`: `targets` must be a list of 1 to {MAX_TARGETS} finite RMSEs >= 0"
+                "instance `{name}`: `targets` must be a list of 1 to {MAX_TARGETS} RMSEs or {{ relative = r }} tables"
             ),
         ));
     }
-    targets.sort_by(f64::total_cmp);
-    targets.dedup();
-    Ok(targets)
+    let (mut absolute, mut relative) = (Vec::new(), Vec::new());
+    for (k, v) in entries.iter().enumerate() {
+        match target_entry(v)
+            .map_err(|m| cx.invalid(line, format!("instance `{name}`: `targets[{k}]{m}")))?
+        {
+            Target::Absolute(t) => absolute.push(t),
+            Target::Relative(r) => relative.push(r),
+        }
+    }
+    for list in [&mut absolute, &mut relative] {
+        list.sort_by(f64::total_cmp);
+        list.dedup();
+    }
+    Ok((absolute, relative))
+}
+
+/// One entry of `targets`, as written.
+enum Target {
+    Absolute(f64),
+    Relative(f64),
+}
+
+/// Reads one `targets` entry; the error continues the sentence "`targets[k]`...".
+fn target_entry(v: &toml::Value) -> Result<Target, String> {
+    let number = |v: &toml::Value| match v {
+        toml::Value::Float(f) => Some(*f),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    };
+    if let Some(t) = number(v) {
+        return if t.is_finite() && t >= 0.0 {
+            Ok(Target::Absolute(t))
+        } else {
+            Err(format!("` must be a finite RMSE >= 0, found {t}"))
+        };
+    }
+    let Some(table) = v.as_table() else {
+        return Err(format!(
+            "` must be a number or a table {{ relative = r }}, found {}",
+            v.type_str()
+        ));
+    };
+    if let Some(k) = table.keys().find(|k| *k != "relative" && *k != "absolute") {
+        return Err(format!(
+            "`: unknown key `{k}`; expected `relative` (a fraction above the best-known RMSE)"
+        ));
+    }
+    match (table.get("relative"), table.get("absolute")) {
+        (Some(_), Some(_)) => {
+            Err("`: `relative` and `absolute` are both given; use one per entry".into())
+        }
+        (None, Some(a)) => target_entry(a).map_err(|m| format!(".absolute{m}")),
+        (None, None) => Err("`: empty table; expected { relative = r }".into()),
+        (Some(r), None) => match number(r) {
+            Some(r) if r.is_finite() && r >= 0.0 && r <= 10.0 => Ok(Target::Relative(r)),
+            Some(r) => Err(format!(
+                ".relative` must be a finite fraction from 0 to 10 (0.01 = 1% above the best-known RMSE), found {r}"
+            )),
+            None => Err(format!(
+                ".relative` must be a number, found {}",
+                r.type_str()
+            )),
+        },
+    }
 }
 
 fn synthetic(
@@ -331,9 +398,11 @@ fn model(
             format!("instance `{name}`: `model.fixed.\"{k}\"` must be a finite number, found {v}"),
         ));
     }
+    let exponent = rm.exponent.unwrap_or_default();
     let model = ModelSpec {
         kinds,
-        exponent: rm.exponent.unwrap_or_default(),
+        exponent,
+        starts: canonical_starts(rm.starts.unwrap_or_default(), exponent),
         fixed,
         bounds,
     };
@@ -367,6 +436,16 @@ fn model(
         ));
     }
     Ok(model)
+}
+
+/// `starts` as stored: `Coordinate` when the asked distribution is the coordinate's own, so
+/// that spelling out the default (`starts = "log-uniform"` with log1p) keeps the fingerprint.
+fn canonical_starts(starts: sls::StartDist, exponent: ExponentCoord) -> sls::StartDist {
+    if starts.resolve(exponent) == sls::StartDist::Coordinate.resolve(exponent) {
+        sls::StartDist::Coordinate
+    } else {
+        starts
+    }
 }
 
 /// The `[plots]` and `[stats]` tables.

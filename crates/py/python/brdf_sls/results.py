@@ -31,6 +31,7 @@ class Results:
         tests, finals: the pairwise tests and final-quality rows, as records.
         header: the results file's header (spec text, machine, kernel, data hashes).
         raw: the trial records as stored (nested dicts).
+        warnings: what could not be established (e.g. best-known RMSEs of an older folder).
     """
 
     name: str
@@ -43,6 +44,7 @@ class Results:
     finals: list[dict[str, Any]] = field(default_factory=list)
     header: dict[str, Any] = field(default_factory=dict)
     raw: list[dict[str, Any]] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
     def frames(self) -> dict[str, Any]:
         """The records as pandas DataFrames: ``trials``, ``traces``, ``stats``, ``tests`` and
@@ -143,4 +145,5 @@ def read_results(folder: str | os.PathLike[str]) -> Results:
         finals=stats["finals"],
         header=d["header"],
         raw=records,
+        warnings=d["warnings"],
     )

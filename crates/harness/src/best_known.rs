@@ -1,0 +1,272 @@
+//! The best-known RMSE of an instance: the reference that relative targets
+//! (`targets = [{ relative = 0.01 }]`) and the closeness warnings are measured against.
+//!
+//! # Procedure (deterministic)
+//!
+//! Full-data bounded Levenberg-Marquardt descents with PORT's limits (150 iterations, 200
+//! evaluations), each repeated from its own result until it improves the RMSE by less than
+//! 1e-12 relative or [`POLISH_ROUNDS`] descents were made:
+//! - for a synthetic instance, one from the generating parameters (the truth, projected into
+//!   the model's box: lobes beyond the model's count are dropped);
+//! - [`STARTS`] from random picks of the instance's own start distribution, drawn from the
+//!   fixed seed [`SEED`].
+//!
+//! The best-known RMSE is the lowest full-data RMSE seen. Everything is seeded and nothing
+//! reads a clock, so the number is the same on every run with the same evaluation kernel
+//! (kernels agree to rounding). Runs record it in their session line of `trials.jsonl`, and
+//! `stats` reports it beside every result.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use sls::{Budget, DescentLimits, Rows, Search, TrialContext};
+
+use crate::instance::{BuiltInstance, InstanceError};
+use crate::spec::{InstanceSpec, Source, Spec};
+
+/// Random starts per instance.
+pub const STARTS: usize = 32;
+/// The seed of the random starts.
+pub const SEED: u64 = 0x6265_7374_6b6e_6f77; // "bestknow"
+/// Most descents per start (the first included).
+pub const POLISH_ROUNDS: usize = 8;
+/// An absolute target at most this fraction above the best-known RMSE is flagged.
+pub const CLOSE_FRACTION: f64 = 0.01;
+
+/// The best-known RMSE of one instance and how it was found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BestKnown {
+    /// The lowest full-data RMSE found.
+    pub rmse: f64,
+    /// The RMSE reached from the generating parameters (synthetic instances only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from_truth: Option<f64>,
+    /// Random starts descended from.
+    pub starts: usize,
+    /// Their seed.
+    pub seed: u64,
+}
+
+/// Computes the best-known RMSE of one built instance (see the module docs).
+pub fn compute(spec: &InstanceSpec, built: &BuiltInstance) -> Result<BestKnown, InstanceError> {
+    let objective = sls::BrdfObjective::new(built.data.clone(), built.layout.clone())
+        .with_starts(spec.model.starts);
+    // No clock and no target: only the evaluation count could stop it, and it is unlimited.
+    let budget = Budget {
+        cpu_seconds: None,
+        sample_evaluations: Some(u64::MAX),
+    };
+    let mut cx = TrialContext::new(&objective, SEED, budget, f64::NEG_INFINITY);
+    let from_truth = match &spec.source {
+        Source::Synthetic { params, .. } => {
+            let mut x = built.layout.encode(params);
+            Some(polish(&mut cx, &mut x))
+        }
+        Source::File { .. } => None,
+    };
+    let mut x = vec![0.0; built.layout.dim()];
+    for _ in 0..STARTS {
+        cx.random_pick(&mut x);
+        polish(&mut cx, &mut x);
+    }
+    Ok(BestKnown {
+        rmse: cx.best_rmse(),
+        from_truth,
+        starts: STARTS,
+        seed: SEED,
+    })
+}
+
+/// Descends from `x` until a descent gains less than 1e-12 relative; returns the RMSE.
+fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64 {
+    let mut last = f64::INFINITY;
+    for _ in 0..POLISH_ROUNDS {
+        // Neither call can stop: there is no target, no clock and no real evaluation limit.
+        if cx.descend(x, Rows::Full, DescentLimits::default()).is_err() {
+            break;
+        }
+        let rmse = cx.evaluate(x).unwrap_or(f64::INFINITY);
+        let gained = last - rmse;
+        last = last.min(rmse);
+        if !(gained > 1e-12 * rmse) {
+            break;
+        }
+    }
+    last
+}
+
+/// Resolves every instance's best-known RMSE (from `known` when recorded there, else computed)
+/// and with it the relative targets; returns what was used, by instance name.
+pub fn resolve(
+    spec: &mut Spec,
+    known: &BTreeMap<String, BestKnown>,
+) -> Result<BTreeMap<String, BestKnown>, InstanceError> {
+    let mut out = BTreeMap::new();
+    for inst in &mut spec.instances {
+        let bk = match known.get(&inst.name) {
+            Some(bk) => bk.clone(),
+            None => compute(inst, &crate::instance::build(inst)?)?,
+        };
+        inst.resolve_targets(bk.clone());
+        out.insert(inst.name.clone(), bk);
+    }
+    Ok(out)
+}
+
+/// [`resolve`] before a run into `dir` (what `brdf-sls run` and the Python package's `run`
+/// share): the best-known RMSEs recorded in `dir`'s results when that folder was written by
+/// this spec, else computed. Returns the closeness [`warnings`].
+pub fn resolve_for_run(
+    spec: &mut Spec,
+    dir: Option<&std::path::Path>,
+) -> Result<Vec<String>, InstanceError> {
+    let fingerprint = spec.fingerprint();
+    let known = dir
+        .and_then(|d| crate::store::read_results(d).ok())
+        .filter(|c| c.header.fingerprint == fingerprint)
+        .map(|c| c.best_known().clone())
+        .unwrap_or_default();
+    resolve(spec, &known)?;
+    Ok(warnings(spec))
+}
+
+/// Warnings for absolute targets within [`CLOSE_FRACTION`] of (or below) the best-known RMSE:
+/// such targets measure luck in hitting a near-optimum, or cannot be reached at all.
+pub fn warnings(spec: &Spec) -> Vec<String> {
+    let mut out = Vec::new();
+    for inst in &spec.instances {
+        let Some(bk) = inst.best_known.as_ref().map(|b| b.rmse) else {
+            continue;
+        };
+        for &t in &inst.absolute_targets {
+            if t < bk {
+                out.push(format!(
+                    "warning: instance `{}`: target {t} is below the best-known RMSE {} \
+                     (it may never be reached)",
+                    inst.name,
+                    rmse_text(bk)
+                ));
+            } else if t <= bk * (1.0 + CLOSE_FRACTION) {
+                out.push(format!(
+                    "warning: instance `{}`: target {t} is within {}% of the best-known RMSE \
+                     {} ({:.3}% above it)",
+                    inst.name,
+                    CLOSE_FRACTION * 100.0,
+                    rmse_text(bk),
+                    (t / bk - 1.0) * 100.0
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// An RMSE with 6 significant digits, in scientific notation when small.
+fn rmse_text(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:.5e}")
+    } else {
+        format!("{x:.6}")
+    }
+}
+
+/// How far `t` lies above `bk`: a percentage, or a ratio when `bk` is (near) zero.
+fn above_text(t: f64, bk: f64) -> String {
+    let ratio = t / bk;
+    if ratio.is_finite() && ratio < 100.0 {
+        format!("{:+.2}%", (ratio - 1.0) * 100.0)
+    } else {
+        "far above".into()
+    }
+}
+
+/// One line per instance: its best-known RMSE and every target relative to it.
+pub fn summary(spec: &Spec) -> String {
+    let mut s = format!(
+        "best-known RMSE (full-data descents from {STARTS} seeded starts, and from the truth of generated instances):\n"
+    );
+    for inst in &spec.instances {
+        let Some(bk) = inst.best_known.as_ref().map(|b| b.rmse) else {
+            continue;
+        };
+        let rel: Vec<String> = inst
+            .targets
+            .iter()
+            .map(|&t| format!("{} ({})", rmse_text(t), above_text(t, bk)))
+            .collect();
+        s.push_str(&format!(
+            "  {}: {}; targets {}\n",
+            inst.name,
+            rmse_text(bk),
+            rel.join(", ")
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn spec(targets: &str, sigma: f64) -> Spec {
+        let text = format!(
+            "seed = 1\ntrials = 1\n[budget]\ncpu_seconds = 1\n[[instance]]\nname = \"t\"\n\
+             targets = {targets}\n[instance.synthetic]\nparams = \"tuning\"\nsamples = 400\n\
+             sigma = {sigma}\n[[algorithm]]\nkind = \"rpls\"\n"
+        );
+        Spec::parse(&text, "t.toml", "t", Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn best_known_is_deterministic_and_near_the_noise_level() {
+        let s = spec("[0.2]", 0.1);
+        let built = crate::instance::build(&s.instances[0]).unwrap();
+        let a = compute(&s.instances[0], &built).unwrap();
+        let b = compute(&s.instances[0], &built).unwrap();
+        assert_eq!(a, b);
+        // Noise sigma 0.1 on 400 samples with 6 free parameters: the optimum lies a little
+        // below 0.1, and the fit from the truth cannot be worse than the truth's own RMSE.
+        assert!((0.08..0.11).contains(&a.rmse), "{a:?}");
+        assert!(a.rmse <= a.from_truth.unwrap());
+    }
+
+    #[test]
+    fn noiseless_best_known_is_near_zero() {
+        let s = spec("[0.01]", 0.0);
+        let built = crate::instance::build(&s.instances[0]).unwrap();
+        let a = compute(&s.instances[0], &built).unwrap();
+        assert!(a.rmse < 1e-6, "{a:?}");
+    }
+
+    #[test]
+    fn relative_targets_resolve_and_close_targets_warn() {
+        // Relative targets alone: nothing to run to until resolved.
+        assert!(
+            spec("[{ relative = 0.05 }]", 0.1).instances[0]
+                .run_target()
+                .is_nan()
+        );
+        let mut s = spec("[{ relative = 0.05 }, 0.0999, 0.5]", 0.1);
+        assert!(s.has_unresolved_targets());
+        assert_eq!(s.instances[0].run_target(), 0.0999);
+        let used = resolve(&mut s, &BTreeMap::new()).unwrap();
+        let bk = used["t"].rmse;
+        assert!(!s.has_unresolved_targets());
+        assert!(s.instances[0].targets.contains(&(bk * 1.05)));
+        // A recorded value is used as it is, not recomputed.
+        let mut recorded = used.clone();
+        recorded.get_mut("t").unwrap().rmse = 0.1;
+        let mut s2 = spec("[{ relative = 0.05 }, 0.0999, 0.5]", 0.1);
+        resolve(&mut s2, &recorded).unwrap();
+        assert_eq!(s2.instances[0].run_target(), 0.0999);
+        let w = warnings(&s2).join("\n");
+        assert!(w.contains("target 0.0999 is below"), "{w}");
+        assert!(!w.contains("target 0.5"), "{w}");
+        let mut closer = recorded["t"].clone();
+        closer.rmse = 0.0995;
+        s2.instances[0].resolve_targets(closer);
+        let w = warnings(&s2).join("\n");
+        assert!(w.contains("target 0.0999 is within 1%"), "{w}");
+    }
+}

@@ -1,0 +1,73 @@
+//! `brdf-sls export --format ioh DIR`: stored results in IOHprofiler's format.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use harness::spec::Spec;
+use harness::store::read_results;
+
+use super::{input_error, note, say};
+use crate::cli::{ExportArgs, ExportFormat};
+
+/// `brdf-sls export`.
+pub fn export(a: ExportArgs) -> Result<()> {
+    let dir = if a.dir.is_dir() {
+        a.dir.clone()
+    } else if a.dir.exists() {
+        match a.dir.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => Path::new(".").to_path_buf(),
+        }
+    } else {
+        return Err(input_error(format!(
+            "{}: no such results directory or file",
+            a.dir.display()
+        )));
+    };
+    let contents =
+        read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
+    if contents.current_spec_text().is_empty() {
+        return Err(input_error(format!(
+            "{}: the header holds no spec text, so instances and configurations are unknown",
+            dir.display()
+        )));
+    }
+    let spec = Spec::parse(
+        contents.current_spec_text(),
+        &format!("{} (stored spec)", dir.display()),
+        &contents.header.experiment,
+        &dir,
+    )?;
+    let records = harness::report::plan_records(&spec, &contents.records);
+    let planned = spec.trials_plan().len();
+    if records.len() < planned {
+        note!(
+            "note: partial results: {} of {planned} trials present; exporting those",
+            records.len()
+        );
+    }
+    let out = a.out.clone().unwrap_or_else(|| dir.join("ioh"));
+    let done = match a.format {
+        ExportFormat::Ioh => {
+            harness::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
+                harness::export::ExportError::NameClash { .. } => input_error(e.to_string()),
+                other => anyhow::Error::new(other),
+            })?
+        }
+    };
+    if done.unevaluated > 0 {
+        note!(
+            "note: {} runs never evaluated a point; written with y = {:e} (JSON has no infinity)",
+            done.unevaluated,
+            f64::MAX
+        );
+    }
+    let runs: usize = done.runs.values().sum();
+    say!(
+        "wrote {runs} runs of {} (configuration, instance) pairs in IOHprofiler format to {} ({} files)",
+        done.runs.len(),
+        out.display(),
+        done.files.len()
+    );
+    Ok(())
+}
