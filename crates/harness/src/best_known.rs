@@ -113,6 +113,23 @@ pub fn resolve(
     Ok(out)
 }
 
+/// [`resolve`] before a run into `dir` (what `brdf-sls run` and the Python package's `run`
+/// share): the best-known RMSEs recorded in `dir`'s results when that folder was written by
+/// this spec, else computed. Returns the closeness [`warnings`].
+pub fn resolve_for_run(
+    spec: &mut Spec,
+    dir: Option<&std::path::Path>,
+) -> Result<Vec<String>, InstanceError> {
+    let fingerprint = spec.fingerprint();
+    let known = dir
+        .and_then(|d| crate::store::read_results(d).ok())
+        .filter(|c| c.header.fingerprint == fingerprint)
+        .map(|c| c.best_known().clone())
+        .unwrap_or_default();
+    resolve(spec, &known)?;
+    Ok(warnings(spec))
+}
+
 /// Warnings for absolute targets within [`CLOSE_FRACTION`] of (or below) the best-known RMSE:
 /// such targets measure luck in hitting a near-optimum, or cannot be reached at all.
 pub fn warnings(spec: &Spec) -> Vec<String> {

@@ -24,6 +24,7 @@
 //! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
+//! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
 
 /// Where `run` writes when no `--out` is given: `runs/<spec file stem>/`. The repository's
 /// committed reference results live apart, in `results/`, so a user's first run never collides
@@ -33,6 +34,7 @@ pub const DEFAULT_RUNS_DIR: &str = "runs";
 pub mod best_known;
 pub mod export;
 pub mod figures;
+pub mod fit;
 pub mod instance;
 pub mod machine;
 pub mod merge;

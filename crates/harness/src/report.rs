@@ -19,7 +19,7 @@ use brdf_graphics::chart::{self as plot, slug};
 use crate::figures;
 use crate::spec::{PlotKind, Source, Spec};
 use crate::stats::{self, Group, Measure, StatsReport};
-use crate::store::{Session, TrialRecord, write_atomic};
+use crate::store::{Contents, Session, TrialRecord, write_atomic};
 
 /// Errors writing a report.
 #[derive(Debug, thiserror::Error)]
@@ -61,6 +61,32 @@ pub struct Report {
     pub table: String,
     /// Files written.
     pub files: Vec<PathBuf>,
+}
+
+/// Why a results folder's own spec could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum StoredSpecError {
+    /// The results file predates stored spec texts.
+    #[error("{0}: the header holds no spec text; pass the spec file")]
+    NoSpecText(PathBuf),
+    /// The stored text does not parse (or no longer validates).
+    #[error(transparent)]
+    Spec(#[from] crate::spec::SpecError),
+}
+
+/// The spec a results folder was last run with (its latest session's, else the header's), as
+/// `stats` and `plot` use it when given the folder alone.
+pub fn stored_spec(contents: &Contents, dir: &Path) -> Result<Spec, StoredSpecError> {
+    let text = contents.current_spec_text();
+    if text.is_empty() {
+        return Err(StoredSpecError::NoSpecText(dir.to_path_buf()));
+    }
+    Ok(Spec::parse(
+        text,
+        &format!("{} (stored spec)", dir.display()),
+        &contents.header.experiment,
+        dir,
+    )?)
 }
 
 /// The records that belong to `spec`'s plan (its instances, configurations and trial count).

@@ -7,12 +7,13 @@
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
-use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use brdf_model::Kernel;
 use rayon::prelude::*;
-use sls::{AlgorithmConfig, BrdfObjective, Budget, TrialResult};
+use sls::{AlgorithmConfig, BrdfObjective, Budget, StopReason, TrialResult};
 
 use crate::instance::{BuiltInstance, InstanceError};
 use crate::machine::{MachineInfo, unix_now};
@@ -48,6 +49,7 @@ pub struct SlsExecutor {
     objectives: Vec<BrdfObjective>,
     configs: Vec<AlgorithmConfig>,
     provenance: Provenance,
+    interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl SlsExecutor {
@@ -86,9 +88,19 @@ impl SlsExecutor {
                     .map(|c| c.algorithm.clone())
                     .collect(),
                 provenance,
+                interrupt: None,
             },
             built,
         ))
+    }
+}
+
+impl SlsExecutor {
+    /// Makes every trial stop with [`StopReason::Interrupted`] once `flag` is raised; the
+    /// runner then stores none of the interrupted trials and returns [`RunError::Interrupted`]
+    /// (how the Python package answers Ctrl-C). Trials are unchanged while the flag is down.
+    pub fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
+        self.interrupt = Some(flag);
     }
 }
 
@@ -98,12 +110,13 @@ impl Executor for SlsExecutor {
     }
 
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
-        sls::run_trial(
+        sls::run_trial_interruptible(
             &self.objectives[trial.instance],
             &self.configs[trial.config],
             trial.seed,
             budget,
             target,
+            self.interrupt.clone(),
         )
     }
 }
@@ -169,6 +182,9 @@ pub enum RunError {
         /// What was asked for.
         requested: String,
     },
+    /// The run was interrupted (Ctrl-C); the trials finished before are saved.
+    #[error("interrupted; the trials finished so far are saved, run again to resume")]
+    Interrupted,
     /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
     Pool {
@@ -324,6 +340,11 @@ pub fn run_shard<E: Executor>(
                         .or_else(|| p.downcast_ref::<String>().cloned())
                         .unwrap_or_else(|| "unknown panic".into()),
                 })?;
+                // An interrupted trial is incomplete: storing it would record a censored run
+                // that never happened.
+                if result.stop == StopReason::Interrupted {
+                    return Err(RunError::Interrupted);
+                }
                 let record = TrialRecord {
                     key: t.key.clone(),
                     instance: inst.name.clone(),

@@ -9,6 +9,8 @@ use crate::{AlgorithmConfig, SearchRng};
 use bounded_lm::{Options, Problem, SolveError, Solver};
 use cpu_time::ThreadTime;
 use rand::SeedableRng;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// When the CPU clock is read. A thread's CPU time can only advance as fast as wall time, so
@@ -45,6 +47,8 @@ struct Meter {
     /// Wall seconds after `last_read` before the CPU clock must be read again.
     next_read: f64,
     stopped: Option<Stop>,
+    /// Raised from another thread to stop the trial (a caller's Ctrl-C).
+    interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Meter {
@@ -59,6 +63,7 @@ impl Meter {
                 .cpu_seconds
                 .map_or(f64::INFINITY, |c| (c * CLOCK_SLACK).min(CLOCK_MAX_INTERVAL)),
             stopped: None,
+            interrupt: None,
         }
     }
 
@@ -89,6 +94,14 @@ impl Meter {
     fn poll_clock(&mut self) -> Result<(), Stop> {
         if let Some(stop) = self.stopped {
             return Err(stop);
+        }
+        // One relaxed load per call: negligible next to any evaluation.
+        if self
+            .interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+        {
+            return Err(self.stop(Stop::Interrupted));
         }
         if self.budget.cpu_seconds.is_some()
             && self.last_read.elapsed().as_secs_f64() >= self.next_read
@@ -243,6 +256,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// either way; only `EvalCounts::rmse_rows_computed` and the CPU time differ.
     pub fn set_early_exit(&mut self, enabled: bool) {
         self.early_exit = enabled;
+    }
+
+    /// Stops the trial with [`StopReason::Interrupted`] at the next evaluation or solver
+    /// iteration after `flag` is raised (from any thread). Lets a caller cancel a long trial,
+    /// e.g. on Ctrl-C; a trial whose flag is never raised is unchanged.
+    pub fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
+        self.meter.interrupt = Some(flag);
     }
 
     /// The descent's step model: Gauss-Newton (the default) or NL2SOL's adaptive choice between
@@ -515,7 +535,23 @@ pub fn run_trial<O: Objective>(
     budget: Budget,
     target: f64,
 ) -> TrialResult {
+    run_trial_interruptible(objective, algorithm, seed, budget, target, None)
+}
+
+/// [`run_trial`] that also stops, with [`StopReason::Interrupted`], once `interrupt` is
+/// raised. Until then the trial is the same as [`run_trial`]'s with the same seed.
+pub fn run_trial_interruptible<O: Objective>(
+    objective: &O,
+    algorithm: &AlgorithmConfig,
+    seed: u64,
+    budget: Budget,
+    target: f64,
+    interrupt: Option<Arc<AtomicBool>>,
+) -> TrialResult {
     let mut context = TrialContext::new(objective, seed, budget, target);
+    if let Some(flag) = interrupt {
+        context.set_interrupt(flag);
+    }
     if algorithm.validate().is_err() {
         context.count("invalid_config");
         return context.finish(Ok(()));
@@ -550,6 +586,23 @@ mod tests {
         let c = r.ended_at.evaluations;
         assert_eq!(c.residual_rows + c.jacobian_rows, 0);
         assert_eq!(c.rmse_rows % 200, 0);
+    }
+
+    #[test]
+    fn a_raised_interrupt_stops_the_trial_and_a_lowered_one_changes_nothing() {
+        let toy = Toy::new(100, 0.05, 2);
+        let budget = Budget {
+            cpu_seconds: None,
+            sample_evaluations: Some(200_000),
+        };
+        let raised = Arc::new(AtomicBool::new(true));
+        let r = run_trial_interruptible(&toy, &ds(), 11, budget, 0.0, Some(raised));
+        assert_eq!(r.stop, StopReason::Interrupted);
+        assert_eq!(r.ended_at.evaluations.total(), 0);
+        let lowered = Arc::new(AtomicBool::new(false));
+        let a = run_trial_interruptible(&toy, &ds(), 11, budget, 0.0, Some(lowered));
+        let b = run_trial(&toy, &ds(), 11, budget, 0.0);
+        assert_eq!(a.without_clock(), b.without_clock());
     }
 
     #[test]

@@ -49,7 +49,7 @@ pub use algorithms::{
 };
 pub use brdf::{BrdfObjective, BrdfWorkspace, StartDist};
 pub use config::AlgorithmConfig;
-pub use context::{TrialContext, run_trial};
+pub use context::{TrialContext, run_trial, run_trial_interruptible};
 pub use objective::{Objective, Rows};
 pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};

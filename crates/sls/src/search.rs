@@ -18,6 +18,8 @@ pub enum Stop {
     CpuBudget,
     /// The sample-evaluation budget is spent.
     EvaluationBudget,
+    /// The trial's interrupt flag was raised (see [`crate::TrialContext::set_interrupt`]).
+    Interrupted,
 }
 
 impl From<Stop> for StopReason {
@@ -26,6 +28,7 @@ impl From<Stop> for StopReason {
             Stop::Target => StopReason::Target,
             Stop::CpuBudget => StopReason::CpuBudget,
             Stop::EvaluationBudget => StopReason::EvaluationBudget,
+            Stop::Interrupted => StopReason::Interrupted,
         }
     }
 }

@@ -79,6 +79,9 @@ pub enum StopReason {
     EvaluationBudget,
     /// The algorithm ended by itself without reaching the target (e.g. DS with restarts off).
     Finished,
+    /// Stopped from outside (Ctrl-C in a caller) before the target or a budget: the result is
+    /// incomplete and the harness never stores it.
+    Interrupted,
 }
 
 /// Everything a trial reports.

@@ -16,7 +16,7 @@ pub mod values;
 pub use cluster::{MergeArgs, SlurmArgs};
 pub use data::DataArgs;
 pub use graphics::{PolarArgs, RenderArgs};
-pub use model::{FitArgs, ModelArgs, ParamArgs};
+pub use model::{FitArgs, ParamArgs};
 pub use tune::{TrialArgs, TuneArgs};
 
 use harness::progress::ProgressMode;

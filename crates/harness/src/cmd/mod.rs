@@ -73,9 +73,18 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<brdf_model::ParamError>()
             || c.is::<sls::ConfigError>()
             || c.is::<brdf_model::KernelError>()
+            || c.downcast_ref::<harness::fit::FitError>()
+                .is_some_and(|f| f.is_input_error())
             || matches!(
                 c.downcast_ref::<harness::run::RunError>(),
-                Some(harness::run::RunError::ShardMismatch { .. })
+                Some(
+                    harness::run::RunError::ShardMismatch { .. }
+                        // `Store` is transparent: the store's error is not in the chain itself.
+                        | harness::run::RunError::Store(
+                            harness::store::StoreError::FingerprintMismatch { .. }
+                                | harness::store::StoreError::DataChanged { .. }
+                        )
+                )
             )
             || c.downcast_ref::<harness::merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())

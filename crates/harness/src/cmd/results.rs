@@ -3,7 +3,6 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use harness::spec::Spec;
 use harness::store::read_results;
 
 use super::shared::{default_out, load_spec};
@@ -48,20 +47,11 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             }
             s
         }
-        None => {
-            if contents.current_spec_text().is_empty() {
-                return Err(input_error(format!(
-                    "{}: the header holds no spec text; pass the spec file",
-                    dir.display()
-                )));
-            }
-            Spec::parse(
-                contents.current_spec_text(),
-                &format!("{} (stored spec)", dir.display()),
-                &contents.header.experiment,
-                &dir,
-            )?
-        }
+        None => match harness::report::stored_spec(&contents, &dir) {
+            Ok(s) => s,
+            Err(harness::report::StoredSpecError::Spec(e)) => return Err(e.into()),
+            Err(e) => return Err(input_error(e.to_string())),
+        },
     };
     // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
     harness::best_known::resolve(&mut spec, contents.best_known())

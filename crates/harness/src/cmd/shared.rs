@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
-use harness::spec::{DataFormat, Spec};
+use harness::spec::Spec;
 
 use super::{input_error, note};
 use crate::cli::DataArgs;
@@ -20,14 +20,9 @@ pub fn load_spec(path: &Path) -> Result<Spec> {
 /// `harness::best_known`). Prints a warning for each absolute target within 1% of its
 /// instance's best-known RMSE.
 pub fn resolve_best_known(spec: &mut Spec, dir: Option<&Path>) -> Result<()> {
-    let fingerprint = spec.fingerprint();
-    let known = dir
-        .and_then(|d| harness::store::read_results(d).ok())
-        .filter(|c| c.header.fingerprint == fingerprint)
-        .map(|c| c.best_known().clone())
-        .unwrap_or_default();
-    harness::best_known::resolve(spec, &known).context("finding the best-known RMSEs")?;
-    for w in harness::best_known::warnings(spec) {
+    let warnings =
+        harness::best_known::resolve_for_run(spec, dir).context("finding the best-known RMSEs")?;
+    for w in warnings {
         note!("{w}");
     }
     Ok(())
@@ -45,21 +40,7 @@ pub fn default_out(spec: Option<&Path>) -> PathBuf {
 /// Loads the data set the flags name, under the shared data policy (see [`DataArgs`]), and
 /// reports what the filters dropped on standard error.
 pub fn load_data(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
-    let fs = args.file_spec();
-    if fs.format.is_none() && DataFormat::from_path(&args.data).is_none() {
-        return Err(input_error(format!(
-            "{}: cannot tell the format from the extension; pass --format cornell|csv|merl",
-            args.data.display()
-        )));
-    }
-    if !(args.wavelength.is_finite() && args.wavelength > 0.0) {
-        return Err(input_error(format!(
-            "--wavelength {}: expected a positive number of nm",
-            args.wavelength
-        )));
-    }
-    let (data, rep) = harness::instance::load_file(&fs, &args.data)
-        .with_context(|| format!("reading {}", args.data.display()))?;
+    let (data, rep) = harness::fit::load_data(&args.file_spec())?;
     note!(
         "{}: {} samples kept ({rep})",
         args.data.display(),

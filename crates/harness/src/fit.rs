@@ -1,0 +1,258 @@
+//! One fit of one data set with one algorithm: the logic `brdf-sls fit` and the Python
+//! package's `fit` share, so both check the same things, say the same words and give the same
+//! result for the same seed.
+//!
+//! Error messages name the command-line flags (`--cpu-seconds`, `--set`, ...); the Python
+//! keyword arguments carry the same names with `_` for `-`.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use brdf_model::{
+    BrdfParams, DataSet, Evaluator, ExponentCoord, FilterReport, Kernel, Layout, LobeKind,
+};
+use sls::{AlgorithmConfig, StopReason, TrialResult};
+
+use crate::spec::{DataFormat, FileSpec, ModelSpec};
+
+/// Errors of a fit or of loading its data.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Bad input (a flag's value, an algorithm setting, a data file): the message says which
+    /// and what was expected.
+    #[error("{0}")]
+    Input(String),
+    /// The run ended without evaluating any candidate (a budget too small to evaluate once).
+    #[error("the run evaluated no candidate (stop: {0:?})")]
+    NoCandidate(StopReason),
+    /// The interrupt flag was raised before the fit ended.
+    #[error("interrupted")]
+    Interrupted,
+}
+
+impl FitError {
+    /// True for bad input (exit status 2 in the command line), false for failures of the run.
+    pub fn is_input_error(&self) -> bool {
+        matches!(self, FitError::Input(_))
+    }
+}
+
+fn input(message: impl Into<String>) -> FitError {
+    FitError::Input(message.into())
+}
+
+/// What one fit needs besides the data.
+#[derive(Clone, Debug)]
+pub struct FitRequest {
+    /// The model shape (see [`model_spec`]).
+    pub model: ModelSpec,
+    /// The algorithm and its configuration (see [`algorithm_config`]).
+    pub algorithm: AlgorithmConfig,
+    /// The trial's seed: the same seed gives the same trial as `brdf-sls fit --seed`.
+    pub seed: u64,
+    /// CPU-time budget in seconds (positive).
+    pub cpu_seconds: f64,
+    /// Stop when the RMSE reaches this (0: use the whole budget).
+    pub target: f64,
+    /// The evaluation kernel (`auto` picks the fastest this CPU runs).
+    pub kernel: Kernel,
+}
+
+/// What one fit gives.
+#[derive(Clone, Debug)]
+pub struct FitOutcome {
+    /// The layout that was fitted (names, fixed values, bounds).
+    pub layout: Layout,
+    /// The concrete kernel that evaluated the model.
+    pub kernel: Kernel,
+    /// The trial: stop reason, clocks, evaluations, anytime trace, counters.
+    pub result: TrialResult,
+    /// The fitted parameters (fixed ones included).
+    pub params: BrdfParams,
+    /// The RMSE of the fitted parameters on the whole data set, recomputed in full.
+    pub rmse: f64,
+}
+
+/// The model `--lobes`, `--kind`, `--fix` and `--exponent` describe, checked against the
+/// lobe limit.
+pub fn model_spec(
+    lobes: usize,
+    kind: LobeKind,
+    exponent: ExponentCoord,
+    fixed: impl IntoIterator<Item = (String, f64)>,
+) -> Result<ModelSpec, FitError> {
+    let max = crate::spec::limits::MAX_LOBES;
+    if !(1..=max).contains(&lobes) {
+        return Err(input(format!("--lobes {lobes}: expected 1 to {max}")));
+    }
+    let mut spec = ModelSpec::simple(lobes, kind);
+    spec.exponent = exponent;
+    spec.fixed.extend(fixed);
+    Ok(spec)
+}
+
+/// The algorithm configuration `--algorithm KIND` and `--set NAME=VALUE` describe (missing
+/// settings take the paper's defaults), validated by sls.
+pub fn algorithm_config(
+    kind: &str,
+    settings: impl IntoIterator<Item = (String, toml::Value)>,
+) -> Result<AlgorithmConfig, FitError> {
+    let mut table = toml::Table::new();
+    table.insert("kind".into(), toml::Value::String(kind.to_string()));
+    table.extend(settings);
+    let algorithm: AlgorithmConfig = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| input(format!("--algorithm/--set: {}", e.message())))?;
+    algorithm.validate().map_err(|e| input(e.to_string()))?;
+    Ok(algorithm)
+}
+
+/// Checks a fit's budget and target (the algorithm and model are checked when built).
+pub fn check_budget(cpu_seconds: f64, target: f64) -> Result<(), FitError> {
+    if !(cpu_seconds.is_finite() && cpu_seconds > 0.0) {
+        return Err(input(format!(
+            "--cpu-seconds {cpu_seconds}: expected a positive number"
+        )));
+    }
+    if !(target.is_finite() && target >= 0.0) {
+        return Err(input(format!("--target {target}: expected >= 0")));
+    }
+    Ok(())
+}
+
+/// Fits `data` as `request` says on the calling thread, stopping early with
+/// [`FitError::Interrupted`] once `interrupt` is raised.
+pub fn fit(
+    data: Arc<DataSet>,
+    request: &FitRequest,
+    interrupt: Option<Arc<AtomicBool>>,
+) -> Result<FitOutcome, FitError> {
+    check_budget(request.cpu_seconds, request.target)?;
+    if data.is_empty() {
+        return Err(input("the data set has no samples"));
+    }
+    let layout = request.model.layout().map_err(|e| input(e.to_string()))?;
+    let objective = sls::BrdfObjective::with_kernel(data.clone(), layout.clone(), request.kernel)
+        .map_err(|e| input(e.to_string()))?;
+    let budget = sls::Budget {
+        cpu_seconds: Some(request.cpu_seconds),
+        sample_evaluations: None,
+    };
+    let result = sls::run_trial_interruptible(
+        &objective,
+        &request.algorithm,
+        request.seed,
+        budget,
+        request.target,
+        interrupt,
+    );
+    if result.stop == StopReason::Interrupted {
+        return Err(FitError::Interrupted);
+    }
+    if result.best_x.is_empty() {
+        return Err(FitError::NoCandidate(result.stop));
+    }
+    let kernel = objective.kernel();
+    let mut ev = Evaluator::with_kernel(&layout, kernel).map_err(|e| input(e.to_string()))?;
+    let rmse = ev.rmse(&result.best_x, &data);
+    Ok(FitOutcome {
+        params: layout.decode(&result.best_x),
+        layout,
+        kernel,
+        result,
+        rmse,
+    })
+}
+
+/// Reads the data file `fs` names under the shared data policy, with the command line's
+/// checks: a format it can tell (from `format` or the extension) and a positive wavelength.
+/// Errors name the file; a read error is `reading PATH: what the reader said`.
+pub fn load_data(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
+    let path: &Path = &fs.path;
+    if fs.format.is_none() && DataFormat::from_path(path).is_none() {
+        return Err(input(format!(
+            "{}: cannot tell the format from the extension; pass --format cornell|csv|merl",
+            path.display()
+        )));
+    }
+    let wavelength = fs.wavelength.unwrap_or(brdf_model::DEFAULT_WAVELENGTH_NM);
+    if !(wavelength.is_finite() && wavelength > 0.0) {
+        return Err(input(format!(
+            "--wavelength {wavelength}: expected a positive number of nm"
+        )));
+    }
+    crate::instance::load_file(fs, path)
+        .map_err(|e| input(format!("reading {}: {e}", path.display())))
+}
+
+/// [`load_data`], refusing a data set that the filters left empty.
+pub fn load_non_empty(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
+    let (data, rep) = load_data(fs)?;
+    if data.is_empty() {
+        return Err(input(format!(
+            "{}: no samples left after filtering ({rep})",
+            fs.path.display()
+        )));
+    }
+    Ok((data, rep))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn request(seed: u64) -> FitRequest {
+        FitRequest {
+            model: model_spec(1, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap(),
+            algorithm: algorithm_config("aed", [("phi".to_string(), toml::Value::Float(1.2))])
+                .unwrap(),
+            seed,
+            cpu_seconds: 30.0,
+            target: 0.02,
+            kernel: Kernel::Auto,
+        }
+    }
+
+    fn data() -> Arc<DataSet> {
+        let p = brdf_model::named_params("tuning").unwrap();
+        Arc::new(brdf_model::synthetic(&p, 500, 0.0, 4))
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_fit() {
+        let a = fit(data(), &request(7), None).unwrap();
+        let b = fit(data(), &request(7), None).unwrap();
+        assert_eq!(a.result.stop, StopReason::Target);
+        assert!(a.rmse <= 0.02);
+        assert_eq!(a.result.without_clock(), b.result.without_clock());
+        assert_eq!(a.params, b.params);
+    }
+
+    #[test]
+    fn a_raised_interrupt_ends_the_fit() {
+        let flag = Arc::new(AtomicBool::new(true));
+        let e = fit(data(), &request(7), Some(flag)).unwrap_err();
+        assert!(matches!(e, FitError::Interrupted), "{e}");
+    }
+
+    #[test]
+    fn bad_requests_say_which_flag() {
+        let e = algorithm_config("aed", [("phix".to_string(), toml::Value::Integer(1))]);
+        assert!(
+            e.unwrap_err()
+                .to_string()
+                .starts_with("--algorithm/--set: unknown field `phix`")
+        );
+        let e = model_spec(0, LobeKind::Isotropic, ExponentCoord::Raw, []).unwrap_err();
+        assert_eq!(e.to_string(), "--lobes 0: expected 1 to 64");
+        assert_eq!(
+            check_budget(0.0, 0.0).unwrap_err().to_string(),
+            "--cpu-seconds 0: expected a positive number"
+        );
+        assert!(check_budget(1.0, -1.0).unwrap_err().is_input_error());
+        let mut r = request(1);
+        r.model.fixed.insert("lobe2.n".into(), 1.0);
+        assert!(fit(data(), &r, None).unwrap_err().is_input_error());
+    }
+}

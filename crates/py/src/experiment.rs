@@ -1,0 +1,241 @@
+//! `run` (an experiment spec, as `brdf-sls run`) and `read_results` (a results folder as
+//! records for pandas).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use brdf_model::Kernel;
+use harness::progress::ProgressMode;
+use harness::run::{RunError, RunOptions, SlsExecutor, default_threads, run_experiment};
+use harness::spec::Spec;
+use harness::store::{StoreError, read_results as read_store};
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::support::{chain, input_err, interruptible, run_err, to_python};
+
+/// Options of [`run`] besides the spec.
+struct RunArgs {
+    out: PathBuf,
+    threads: usize,
+    fresh: bool,
+    limit: Option<usize>,
+    plots: bool,
+    kernel: Kernel,
+}
+
+/// What a run did, for the result dict.
+struct Ran {
+    new_trials: usize,
+    resumed: usize,
+    missing: usize,
+    notes: Vec<String>,
+    table: String,
+    files: Vec<PathBuf>,
+}
+
+/// Runs (or resumes) an experiment as `brdf-sls run SPEC` does: the same trials with the same
+/// seeds, the same results folder (trials.jsonl, statistics, table, plots).
+///
+/// spec: the TOML file (None: the built-in default experiment); out: the results folder
+/// (default `runs/<spec stem>/`, relative to the working directory, as the command line);
+/// threads (default: the spec's, else all CPUs); fresh: move old results aside; limit: run at
+/// most this many new trials; plots: draw the plots; kernel: overrides the spec's.
+///
+/// Returns a dict: out, new_trials, resumed, missing, notes, warnings (targets close to the
+/// best-known RMSE), table, files. Releases the GIL;
+/// Ctrl-C stops the trials in flight (none of them is stored) and raises KeyboardInterrupt;
+/// running again resumes.
+#[pyfunction]
+#[pyo3(signature = (spec=None, out=None, *, threads=None, fresh=false, limit=None, plots=true, kernel=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    py: Python<'_>,
+    spec: Option<PathBuf>,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    fresh: bool,
+    limit: Option<usize>,
+    plots: bool,
+    kernel: Option<&str>,
+) -> PyResult<Py<PyAny>> {
+    let mut loaded = match &spec {
+        Some(p) => py
+            .detach(|| Spec::from_file(p))
+            .map_err(|e| input_err(chain(e.into())))?,
+        None => Spec::default_experiment(),
+    };
+    let stem = spec
+        .as_deref()
+        .and_then(Path::file_stem)
+        .map_or_else(|| "default".into(), |s| s.to_string_lossy().into_owned());
+    let threads = threads.or(loaded.threads).unwrap_or_else(default_threads);
+    if threads == 0 {
+        return Err(input_err("--threads must be at least 1"));
+    }
+    let kernel = match kernel {
+        Some(k) => k.parse().map_err(input_err)?,
+        None => loaded.kernel,
+    };
+    let out = out.unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem));
+    // As `brdf-sls run`: relative targets need the best-known RMSEs (recorded or computed).
+    let warnings = py
+        .detach(|| harness::best_known::resolve_for_run(&mut loaded, Some(&out)))
+        .context("finding the best-known RMSEs")
+        .map_err(classify)?;
+    let args = RunArgs {
+        out,
+        threads,
+        fresh,
+        limit,
+        plots,
+        kernel,
+    };
+    let ran = interruptible(py, |flag| run_spec(&loaded, &args, flag))??;
+    let d = PyDict::new(py);
+    d.set_item("out", args.out.clone())?;
+    d.set_item("new_trials", ran.new_trials)?;
+    d.set_item("resumed", ran.resumed)?;
+    d.set_item("missing", ran.missing)?;
+    d.set_item("notes", ran.notes)?;
+    d.set_item("warnings", warnings)?;
+    d.set_item("table", ran.table)?;
+    d.set_item("files", ran.files)?;
+    Ok(d.into_any().unbind())
+}
+
+/// The work of [`run`] on the worker thread: the steps of `brdf-sls run` without printing.
+fn run_spec(
+    spec: &Spec,
+    a: &RunArgs,
+    flag: std::sync::Arc<std::sync::atomic::AtomicBool>,
+) -> PyResult<Ran> {
+    let (mut executor, _) = SlsExecutor::new(spec, a.kernel)
+        .context("building the instances")
+        .map_err(classify)?;
+    executor.set_interrupt(flag);
+    let options = RunOptions {
+        threads: a.threads,
+        fresh: a.fresh,
+        progress: ProgressMode::Quiet,
+        limit: a.limit,
+    };
+    let outcome = match run_experiment(spec, &a.out, &options, &executor) {
+        Err(RunError::Interrupted) => {
+            return Err(PyKeyboardInterrupt::new_err(
+                RunError::Interrupted.to_string(),
+            ));
+        }
+        r => r
+            .with_context(|| format!("running experiment `{}`", spec.name))
+            .map_err(classify)?,
+    };
+    let contents = read_store(&a.out)
+        .context("reading back the results")
+        .map_err(classify)?;
+    let report =
+        harness::report::write_report(spec, &outcome.records, &contents.sessions, &a.out, a.plots)
+            .context("writing statistics and plots")
+            .map_err(classify)?;
+    Ok(Ran {
+        new_trials: outcome.new_trials,
+        resumed: outcome.resumed,
+        missing: outcome.missing,
+        notes: outcome.notes,
+        table: report.table,
+        files: report.files,
+    })
+}
+
+/// An error of a run as InputError (what the command line treats as bad input, exit status
+/// 2) or RunError (status 1), with the command line's message.
+fn classify(e: anyhow::Error) -> PyErr {
+    let input = e.chain().any(|c| {
+        c.is::<harness::spec::SpecError>()
+            || c.is::<harness::instance::InstanceError>()
+            || c.is::<brdf_model::KernelError>()
+            || matches!(
+                c.downcast_ref::<RunError>(),
+                Some(
+                    RunError::ShardMismatch { .. }
+                        | RunError::Store(
+                            StoreError::FingerprintMismatch { .. } | StoreError::DataChanged { .. }
+                        )
+                )
+            )
+            || matches!(
+                c.downcast_ref::<StoreError>(),
+                Some(StoreError::FingerprintMismatch { .. } | StoreError::DataChanged { .. })
+            )
+    });
+    if input {
+        input_err(chain(e))
+    } else {
+        run_err(chain(e))
+    }
+}
+
+/// Reads a results folder (a plain or packed `trials.jsonl`) for the Python package: the
+/// header, every trial record and the statistics `brdf-sls stats` computes, as JSON-like
+/// Python objects (`brdf_sls.read_results` flattens them into records).
+///
+/// Returns a dict: header, spec_name, planned, records (one dict per trial: key, instance,
+/// config, trial, seed, target, budget, result), stats (configs, tests, finals), torn,
+/// warnings.
+#[pyfunction]
+pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
+    let (contents, spec, stats, warnings) = py.detach(|| load_stats(&dir))?;
+    let d = PyDict::new(py);
+    d.set_item("header", to_python(py, &contents.header)?)?;
+    d.set_item("spec_name", spec.name.clone())?;
+    d.set_item("planned", spec.trials_plan().len())?;
+    let present = harness::report::plan_records(&spec, &contents.records).len();
+    d.set_item("present", present)?;
+    d.set_item("records", to_python(py, &contents.records)?)?;
+    d.set_item("stats", to_python(py, &stats)?)?;
+    d.set_item("torn", contents.torn.as_ref().map(Vec::len))?;
+    d.set_item("warnings", warnings)?;
+    Ok(d.into_any().unbind())
+}
+
+/// A folder's contents, its spec, its statistics and warnings.
+type Loaded = (
+    harness::store::Contents,
+    Spec,
+    harness::stats::StatsReport,
+    Vec<String>,
+);
+
+/// The folder's contents, its spec and its statistics, as `brdf-sls stats DIR` computes them.
+fn load_stats(dir: &Path) -> PyResult<Loaded> {
+    let contents = read_store(dir)
+        .with_context(|| format!("reading results in {}", dir.display()))
+        .map_err(|e| {
+            let input = e.chain().any(|c| c.is::<StoreError>());
+            let message = chain(e);
+            if input {
+                input_err(message)
+            } else {
+                run_err(message)
+            }
+        })?;
+    let mut spec = harness::report::stored_spec(&contents, dir).map_err(input_err)?;
+    // As `brdf-sls stats`: the recorded best-known RMSEs (computed for older folders). Only
+    // relative targets need them; without those, a folder whose data cannot be found again
+    // (older folders store data paths relative to the spec) is still read, with a warning.
+    let mut warnings = Vec::new();
+    if let Err(e) = harness::best_known::resolve(&mut spec, contents.best_known()) {
+        let e = anyhow::Error::from(e).context("finding the best-known RMSEs");
+        if spec
+            .instances
+            .iter()
+            .any(|i| !i.relative_targets.is_empty())
+        {
+            return Err(classify(e));
+        }
+        warnings.push(format!("no best-known RMSEs: {}", chain(e)));
+    }
+    let stats = harness::report::compute_stats(&spec, &contents.records);
+    Ok((contents, spec, stats, warnings))
+}

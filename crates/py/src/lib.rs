@@ -1,0 +1,36 @@
+//! `brdf_sls._native`: the Python extension module of brdf-sls, built with maturin from the
+//! workspace's crates (brdf-model, sls, harness), so nothing is implemented twice.
+//!
+//! - [`data`]: the `DataSet` class (Cornell, CSV, MERL files, numpy arrays, synthetic data).
+//! - [`model`]: the `Model` class (evaluate, residuals, RMSE, Jacobian) and `rmse`.
+//! - [`fitting`]: `fit`, one seeded fit with any algorithm (`harness::fit`).
+//! - [`experiment`]: `run` an experiment spec, `read_results` of a results folder.
+//! - [`support`]: errors as Python exceptions, Ctrl-C, conversions.
+//!
+//! The Python package `brdf_sls` (python/brdf_sls) re-exports these and turns results into
+//! pandas-friendly records.
+
+use pyo3::prelude::*;
+
+pub mod data;
+pub mod experiment;
+pub mod fitting;
+pub mod model;
+pub mod support;
+
+/// The extension module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("InputError", py.get_type::<support::InputError>())?;
+    m.add("RunError", py.get_type::<support::RunError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<data::PyDataSet>()?;
+    m.add_class::<model::PyModel>()?;
+    m.add_function(wrap_pyfunction!(model::rmse, m)?)?;
+    m.add_function(wrap_pyfunction!(model::named_params, m)?)?;
+    m.add_function(wrap_pyfunction!(fitting::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::run, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::read_results, m)?)?;
+    Ok(())
+}
