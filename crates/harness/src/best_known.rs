@@ -86,9 +86,10 @@ fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64
             break;
         }
         let rmse = cx.evaluate(x).unwrap_or(f64::INFINITY);
-        let gained = last - rmse;
+        // NaN (both infinite) counts as no gain.
+        let improving = last - rmse > 1e-12 * rmse;
         last = last.min(rmse);
-        if !(gained > 1e-12 * rmse) {
+        if !improving {
             break;
         }
     }
