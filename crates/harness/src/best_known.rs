@@ -98,20 +98,43 @@ fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64
 
 /// Resolves every instance's best-known RMSE (from `known` when recorded there, else computed)
 /// and with it the relative targets; returns what was used, by instance name.
+///
+/// An instance whose data cannot be built (e.g. `stats` on a results folder whose data file is
+/// not beside it) is an error only when it has relative targets, which cannot be resolved
+/// without it; otherwise it is left without a best-known RMSE and named in the returned notes.
 pub fn resolve(
     spec: &mut Spec,
     known: &BTreeMap<String, BestKnown>,
-) -> Result<BTreeMap<String, BestKnown>, InstanceError> {
-    let mut out = BTreeMap::new();
+) -> Result<Resolved, InstanceError> {
+    let mut out = Resolved::default();
     for inst in &mut spec.instances {
         let bk = match known.get(&inst.name) {
             Some(bk) => bk.clone(),
-            None => compute(inst, &crate::instance::build(inst)?)?,
+            None => match crate::instance::build(inst).and_then(|b| compute(inst, &b)) {
+                Ok(bk) => bk,
+                Err(e) if inst.relative_targets.is_empty() => {
+                    out.notes.push(format!(
+                        "no best-known RMSE for instance `{}`: {e}",
+                        inst.name
+                    ));
+                    continue;
+                }
+                Err(e) => return Err(e),
+            },
         };
         inst.resolve_targets(bk.clone());
-        out.insert(inst.name.clone(), bk);
+        out.known.insert(inst.name.clone(), bk);
     }
     Ok(out)
+}
+
+/// What [`resolve`] used and what it could not do.
+#[derive(Clone, Debug, Default)]
+pub struct Resolved {
+    /// Best-known RMSE by instance name.
+    pub known: BTreeMap<String, BestKnown>,
+    /// Instances left without one (their data could not be built), with the reason.
+    pub notes: Vec<String>,
 }
 
 /// Warnings for absolute targets within [`CLOSE_FRACTION`] of (or below) the best-known RMSE:
@@ -216,6 +239,24 @@ mod tests {
     }
 
     #[test]
+    fn missing_data_is_a_note_unless_a_relative_target_needs_it() {
+        let missing = |targets: &str| {
+            let text = format!(
+                "seed = 1\ntrials = 1\n[budget]\ncpu_seconds = 1\n[[instance]]\nname = \"f\"\n\
+                 targets = {targets}\n[instance.file]\npath = \"no-such-file.brdf\"\n\
+                 [[algorithm]]\nkind = \"rpls\"\n"
+            );
+            Spec::parse(&text, "t.toml", "t", Path::new(".")).unwrap()
+        };
+        let mut s = missing("[0.1]");
+        let r = resolve(&mut s, &BTreeMap::new()).unwrap();
+        assert!(r.known.is_empty());
+        assert!(r.notes[0].contains("instance `f`"), "{:?}", r.notes);
+        assert_eq!(s.instances[0].run_target(), 0.1);
+        assert!(resolve(&mut missing("[{ relative = 0.01 }]"), &BTreeMap::new()).is_err());
+    }
+
+    #[test]
     fn noiseless_best_known_is_near_zero() {
         let s = spec("[0.01]", 0.0);
         let built = crate::instance::build(&s.instances[0]).unwrap();
@@ -234,7 +275,7 @@ mod tests {
         let mut s = spec("[{ relative = 0.05 }, 0.0999, 0.5]", 0.1);
         assert!(s.has_unresolved_targets());
         assert_eq!(s.instances[0].run_target(), 0.0999);
-        let used = resolve(&mut s, &BTreeMap::new()).unwrap();
+        let used = resolve(&mut s, &BTreeMap::new()).unwrap().known;
         let bk = used["t"].rmse;
         assert!(!s.has_unresolved_targets());
         assert!(s.instances[0].targets.contains(&(bk * 1.05)));

@@ -64,8 +64,11 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         }
     };
     // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
-    harness::best_known::resolve(&mut spec, contents.best_known())
+    let resolved = harness::best_known::resolve(&mut spec, contents.best_known())
         .context("finding the best-known RMSEs")?;
+    for n in resolved.notes {
+        note!("note: {n}");
+    }
     for w in harness::best_known::warnings(&spec) {
         note!("{w}");
     }

@@ -26,7 +26,11 @@ pub fn resolve_best_known(spec: &mut Spec, dir: Option<&Path>) -> Result<()> {
         .filter(|c| c.header.fingerprint == fingerprint)
         .map(|c| c.best_known().clone())
         .unwrap_or_default();
-    harness::best_known::resolve(spec, &known).context("finding the best-known RMSEs")?;
+    let resolved =
+        harness::best_known::resolve(spec, &known).context("finding the best-known RMSEs")?;
+    for n in resolved.notes {
+        note!("note: {n}");
+    }
     for w in harness::best_known::warnings(spec) {
         note!("{w}");
     }
