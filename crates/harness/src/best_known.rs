@@ -187,8 +187,12 @@ fn above_text(t: f64, bk: f64) -> String {
     }
 }
 
-/// One line per instance: its best-known RMSE and every target relative to it.
+/// One line per instance: its best-known RMSE and every target relative to it (empty when no
+/// instance has one).
 pub fn summary(spec: &Spec) -> String {
+    if spec.instances.iter().all(|i| i.best_known.is_none()) {
+        return String::new();
+    }
     let mut s = format!(
         "best-known RMSE (full-data descents from {STARTS} seeded starts, and from the truth of generated instances):\n"
     );
@@ -253,6 +257,7 @@ mod tests {
         assert!(r.known.is_empty());
         assert!(r.notes[0].contains("instance `f`"), "{:?}", r.notes);
         assert_eq!(s.instances[0].run_target(), 0.1);
+        assert_eq!(summary(&s), "");
         assert!(resolve(&mut missing("[{ relative = 0.01 }]"), &BTreeMap::new()).is_err());
     }
 

@@ -85,7 +85,10 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     if a.print_only {
         let stats = harness::report::compute_stats(&spec, &contents.records);
         say!("{}", harness::stats::table(&stats));
-        say!("{}", harness::best_known::summary(&spec).trim_end());
+        let summary = harness::best_known::summary(&spec);
+        if !summary.is_empty() {
+            say!("{}", summary.trim_end());
+        }
         return Ok(());
     }
     let report =
