@@ -86,9 +86,10 @@ fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64
             break;
         }
         let rmse = cx.evaluate(x).unwrap_or(f64::INFINITY);
-        let gained = last - rmse;
+        // NaN (both infinite) counts as no gain.
+        let improving = last - rmse > 1e-12 * rmse;
         last = last.min(rmse);
-        if !(gained > 1e-12 * rmse) {
+        if !improving {
             break;
         }
     }
@@ -97,25 +98,40 @@ fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64
 
 /// Resolves every instance's best-known RMSE (from `known` when recorded there, else computed)
 /// and with it the relative targets; returns what was used, by instance name.
+///
+/// An instance whose data cannot be built (e.g. `stats` on a results folder whose data file is
+/// not beside it) is an error only when it has relative targets, which cannot be resolved
+/// without it; otherwise it is left without a best-known RMSE and named in the returned notes.
 pub fn resolve(
     spec: &mut Spec,
     known: &BTreeMap<String, BestKnown>,
-) -> Result<BTreeMap<String, BestKnown>, InstanceError> {
-    let mut out = BTreeMap::new();
+) -> Result<Resolved, InstanceError> {
+    let mut out = Resolved::default();
     for inst in &mut spec.instances {
         let bk = match known.get(&inst.name) {
             Some(bk) => bk.clone(),
-            None => compute(inst, &crate::instance::build(inst)?)?,
+            None => match crate::instance::build(inst).and_then(|b| compute(inst, &b)) {
+                Ok(bk) => bk,
+                Err(e) if inst.relative_targets.is_empty() => {
+                    out.notes.push(format!(
+                        "no best-known RMSE for instance `{}`: {e}",
+                        inst.name
+                    ));
+                    continue;
+                }
+                Err(e) => return Err(e),
+            },
         };
         inst.resolve_targets(bk.clone());
-        out.insert(inst.name.clone(), bk);
+        out.known.insert(inst.name.clone(), bk);
     }
     Ok(out)
 }
 
 /// [`resolve`] before a run into `dir` (what `brdf-sls run` and the Python package's `run`
 /// share): the best-known RMSEs recorded in `dir`'s results when that folder was written by
-/// this spec, else computed. Returns the closeness [`warnings`].
+/// this spec, else computed. Returns the notes on instances left without one, then the
+/// closeness [`warnings`], one line each.
 pub fn resolve_for_run(
     spec: &mut Spec,
     dir: Option<&std::path::Path>,
@@ -126,8 +142,19 @@ pub fn resolve_for_run(
         .filter(|c| c.header.fingerprint == fingerprint)
         .map(|c| c.best_known().clone())
         .unwrap_or_default();
-    resolve(spec, &known)?;
-    Ok(warnings(spec))
+    let resolved = resolve(spec, &known)?;
+    let mut lines: Vec<String> = resolved.notes.iter().map(|n| format!("note: {n}")).collect();
+    lines.extend(warnings(spec));
+    Ok(lines)
+}
+
+/// What [`resolve`] used and what it could not do.
+#[derive(Clone, Debug, Default)]
+pub struct Resolved {
+    /// Best-known RMSE by instance name.
+    pub known: BTreeMap<String, BestKnown>,
+    /// Instances left without one (their data could not be built), with the reason.
+    pub notes: Vec<String>,
 }
 
 /// Warnings for absolute targets within [`CLOSE_FRACTION`] of (or below) the best-known RMSE:
@@ -180,8 +207,12 @@ fn above_text(t: f64, bk: f64) -> String {
     }
 }
 
-/// One line per instance: its best-known RMSE and every target relative to it.
+/// One line per instance: its best-known RMSE and every target relative to it (empty when no
+/// instance has one).
 pub fn summary(spec: &Spec) -> String {
+    if spec.instances.iter().all(|i| i.best_known.is_none()) {
+        return String::new();
+    }
     let mut s = format!(
         "best-known RMSE (full-data descents from {STARTS} seeded starts, and from the truth of generated instances):\n"
     );
@@ -232,6 +263,25 @@ mod tests {
     }
 
     #[test]
+    fn missing_data_is_a_note_unless_a_relative_target_needs_it() {
+        let missing = |targets: &str| {
+            let text = format!(
+                "seed = 1\ntrials = 1\n[budget]\ncpu_seconds = 1\n[[instance]]\nname = \"f\"\n\
+                 targets = {targets}\n[instance.file]\npath = \"no-such-file.brdf\"\n\
+                 [[algorithm]]\nkind = \"rpls\"\n"
+            );
+            Spec::parse(&text, "t.toml", "t", Path::new(".")).unwrap()
+        };
+        let mut s = missing("[0.1]");
+        let r = resolve(&mut s, &BTreeMap::new()).unwrap();
+        assert!(r.known.is_empty());
+        assert!(r.notes[0].contains("instance `f`"), "{:?}", r.notes);
+        assert_eq!(s.instances[0].run_target(), 0.1);
+        assert_eq!(summary(&s), "");
+        assert!(resolve(&mut missing("[{ relative = 0.01 }]"), &BTreeMap::new()).is_err());
+    }
+
+    #[test]
     fn noiseless_best_known_is_near_zero() {
         let s = spec("[0.01]", 0.0);
         let built = crate::instance::build(&s.instances[0]).unwrap();
@@ -250,7 +300,7 @@ mod tests {
         let mut s = spec("[{ relative = 0.05 }, 0.0999, 0.5]", 0.1);
         assert!(s.has_unresolved_targets());
         assert_eq!(s.instances[0].run_target(), 0.0999);
-        let used = resolve(&mut s, &BTreeMap::new()).unwrap();
+        let used = resolve(&mut s, &BTreeMap::new()).unwrap().known;
         let bk = used["t"].rmse;
         assert!(!s.has_unresolved_targets());
         assert!(s.instances[0].targets.contains(&(bk * 1.05)));

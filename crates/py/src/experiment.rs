@@ -225,16 +225,20 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
     // relative targets need them; without those, a folder whose data cannot be found again
     // (older folders store data paths relative to the spec) is still read, with a warning.
     let mut warnings = Vec::new();
-    if let Err(e) = harness::best_known::resolve(&mut spec, contents.best_known()) {
-        let e = anyhow::Error::from(e).context("finding the best-known RMSEs");
-        if spec
-            .instances
-            .iter()
-            .any(|i| !i.relative_targets.is_empty())
-        {
-            return Err(classify(e));
+    match harness::best_known::resolve(&mut spec, contents.best_known()) {
+        // Instances left without a best-known RMSE (their data is not found again) are named.
+        Ok(resolved) => warnings.extend(resolved.notes),
+        Err(e) => {
+            let e = anyhow::Error::from(e).context("finding the best-known RMSEs");
+            if spec
+                .instances
+                .iter()
+                .any(|i| !i.relative_targets.is_empty())
+            {
+                return Err(classify(e));
+            }
+            warnings.push(format!("no best-known RMSEs: {}", chain(e)));
         }
-        warnings.push(format!("no best-known RMSEs: {}", chain(e)));
     }
     let stats = harness::report::compute_stats(&spec, &contents.records);
     Ok((contents, spec, stats, warnings))

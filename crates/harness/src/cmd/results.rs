@@ -54,8 +54,11 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         },
     };
     // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
-    harness::best_known::resolve(&mut spec, contents.best_known())
+    let resolved = harness::best_known::resolve(&mut spec, contents.best_known())
         .context("finding the best-known RMSEs")?;
+    for n in resolved.notes {
+        note!("note: {n}");
+    }
     for w in harness::best_known::warnings(&spec) {
         note!("{w}");
     }
@@ -72,7 +75,10 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     if a.print_only {
         let stats = harness::report::compute_stats(&spec, &contents.records);
         say!("{}", harness::stats::table(&stats));
-        say!("{}", harness::best_known::summary(&spec).trim_end());
+        let summary = harness::best_known::summary(&spec);
+        if !summary.is_empty() {
+            say!("{}", summary.trim_end());
+        }
         return Ok(());
     }
     let report =

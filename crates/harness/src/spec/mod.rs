@@ -285,7 +285,7 @@ pub struct InstanceSpec {
     /// Name (used in trial keys, seeds and file names).
     pub name: String,
     /// Target RMSEs, ascending; trials run to the first. The absolute targets as written, plus
-    /// the relative ones once [`Spec::resolve_targets`] knows the best-known RMSE.
+    /// the relative ones once [`InstanceSpec::resolve_targets`] knows the best-known RMSE.
     pub targets: Vec<f64>,
     /// The absolute targets as written, ascending.
     pub absolute_targets: Vec<f64>,

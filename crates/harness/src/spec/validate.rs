@@ -207,7 +207,7 @@ fn target_entry(v: &toml::Value) -> Result<Target, String> {
         (None, Some(a)) => target_entry(a).map_err(|m| format!(".absolute{m}")),
         (None, None) => Err("`: empty table; expected { relative = r }".into()),
         (Some(r), None) => match number(r) {
-            Some(r) if r.is_finite() && r >= 0.0 && r <= 10.0 => Ok(Target::Relative(r)),
+            Some(r) if (0.0..=10.0).contains(&r) => Ok(Target::Relative(r)),
             Some(r) => Err(format!(
                 ".relative` must be a finite fraction from 0 to 10 (0.01 = 1% above the best-known RMSE), found {r}"
             )),
