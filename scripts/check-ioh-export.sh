@@ -22,7 +22,7 @@ VENV="${IOH_VENV:-runs/ioh-venv}"
 if [ ! -x "$VENV/bin/python" ]; then
     python3 -m venv "$VENV"
     "$VENV/bin/pip" install --quiet --upgrade pip
-    "$VENV/bin/pip" install --quiet iohinspector
+    "$VENV/bin/pip" install --quiet "iohinspector==0.0.8"
 fi
 
 OUT="$(mktemp -d)"

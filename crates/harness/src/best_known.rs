@@ -143,7 +143,11 @@ pub fn resolve_for_run(
         .map(|c| c.best_known().clone())
         .unwrap_or_default();
     let resolved = resolve(spec, &known)?;
-    let mut lines: Vec<String> = resolved.notes.iter().map(|n| format!("note: {n}")).collect();
+    let mut lines: Vec<String> = resolved
+        .notes
+        .iter()
+        .map(|n| format!("note: {n}"))
+        .collect();
     lines.extend(warnings(spec));
     Ok(lines)
 }
