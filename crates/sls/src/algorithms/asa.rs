@@ -65,7 +65,10 @@
 //!
 //! # Checked against Ingber's ASA (issue 17)
 //!
-//! Item by item against the references above:
+//! Item by item against the references above, and against the text of asa.c itself (its
+//! ASA-distribution generator, `reanneal` for parameters and for the cost with
+//! `Reanneal_Cost = 1`, `cost_derivatives` for the tangents, and the temperature scales set at
+//! the start of `asa`): the formulas below are those of that code, constant for constant.
 //! - **Generating distribution**: the same function of one uniform draw per parameter, at that
 //!   parameter's own temperature, scaled by that parameter's range, redrawn (not clamped) until
 //!   inside the box ([`generating_step`], `State::generate`). Same.
