@@ -3,7 +3,6 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use harness::spec::Spec;
 use harness::store::read_results;
 
 use super::{input_error, note, say};
@@ -26,17 +25,11 @@ pub fn export(a: ExportArgs) -> Result<()> {
     };
     let contents =
         read_results(&dir).with_context(|| format!("reading results in {}", dir.display()))?;
-    if contents.current_spec_text().is_empty() {
-        return Err(input_error(format!(
-            "{}: the header holds no spec text, so instances and configurations are unknown",
-            dir.display()
-        )));
-    }
-    let spec = Spec::parse(
-        contents.current_spec_text(),
-        &format!("{} (stored spec)", dir.display()),
-        &contents.header.experiment,
+    let spec = super::shared::stored_spec(
+        &contents,
         &dir,
+        &dir.display().to_string(),
+        "instances and configurations are",
     )?;
     let records = harness::report::plan_records(&spec, &contents.records);
     let planned = spec.trials_plan().len();

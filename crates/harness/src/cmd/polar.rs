@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use brdf_model::{BrdfParams, DataSet};
-use harness::spec::{DataFormat, Spec};
+use harness::spec::DataFormat;
 use harness::store::read_results;
 
 use super::shared::{load_data, load_non_empty, params_rmse};
@@ -66,17 +66,11 @@ fn best_from_results(
     };
     let contents = read_results(&dir)
         .with_context(|| format!("--from-results: reading results in {}", dir.display()))?;
-    if contents.current_spec_text().is_empty() {
-        bail_input!(
-            "--from-results {}: the header holds no spec text, so the model layout is unknown",
-            dir.display()
-        );
-    }
-    let spec = Spec::parse(
-        contents.current_spec_text(),
-        &format!("{} (stored spec)", dir.display()),
-        &contents.header.experiment,
+    let spec = super::shared::stored_spec(
+        &contents,
         &dir,
+        &format!("--from-results {}", dir.display()),
+        "the model layout is",
     )?;
     let names = || {
         spec.instances

@@ -69,3 +69,21 @@ pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     let x = layout.encode(params);
     Ok(Evaluator::new(&layout).rmse(&x, data))
 }
+
+/// The spec a results folder was last run with (`harness::report::stored_spec`): a stored text
+/// that no longer parses is that spec's error; a folder without one is an input error whose
+/// message starts with `what` (the flag or folder the user named) and says what is unknown.
+pub fn stored_spec(
+    contents: &harness::store::Contents,
+    dir: &Path,
+    what: &str,
+    unknown: &str,
+) -> Result<Spec> {
+    match harness::report::stored_spec(contents, dir) {
+        Ok(spec) => Ok(spec),
+        Err(harness::report::StoredSpecError::Spec(e)) => Err(e.into()),
+        Err(harness::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(format!(
+            "{what}: the header holds no spec text, so {unknown} unknown"
+        ))),
+    }
+}
