@@ -13,20 +13,6 @@ use bounded_lm::qr::{householder_qr, tall_qr, tall_qr_scratch_len};
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
-/// Deterministic entries in [-1, 1) (splitmix64).
-fn filled(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed;
-    (0..n)
-        .map(|_| {
-            s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        })
-        .collect()
-}
-
 /// What the solver did before `tall_qr`: scaled copy of `J`, copy of `r`, in-place QR, `R` out.
 struct InPlace {
     qr: Vec<f64>,
@@ -77,8 +63,8 @@ fn bench_qr(c: &mut Criterion) {
         (25, 7),
         (25, 13),
     ] {
-        let a = filled(m * p, 1);
-        let rhs = filled(m, 2);
+        let a = faer_ref::Rng(1).fill(m * p);
+        let rhs = faer_ref::Rng(2).fill(m);
         let scale: Vec<f64> = (0..p).map(|j| 1.0 / (1.0 + j as f64)).collect();
         let (mut r, mut cv) = (vec![0.0; p * p], vec![0.0; p]);
         let mut inplace = InPlace {

@@ -7,25 +7,10 @@
 mod faer_ref;
 
 use bounded_lm::qr::{householder_qr, tall_qr, tall_qr_scratch_len};
-use faer_ref::FaerQr;
+use faer_ref::{FaerQr, Rng};
 
 /// The solver's relative pivot threshold for a Gauss-Newton step (`QR_RANK_TOL` in solver.rs).
 const QR_RANK_TOL: f64 = 1e-13;
-
-/// Deterministic uniform entries in [-1, 1) (splitmix64).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-    fn fill(&mut self, n: usize) -> Vec<f64> {
-        (0..n).map(|_| self.next()).collect()
-    }
-}
 
 /// `R` (`p x p`) and `c` from each implementation, for `A S` and `rhs`.
 struct Factors {
