@@ -17,62 +17,15 @@ BIN="$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")"
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
-cat > "$WORK/ci-tune.toml" <<'TOML'
-name = "ci-tune"
-seed = 5
-trials = 3
-
-[budget]
-evaluations = 400000
-
-[tune]
-train = ["s3", "s4"]
-test = ["s5"]
-budget = 120
-cost = "evaluations"
-cutoff = 400000
-seed = 2
-parallel = 2
-elites = 2
-validation_trials = 3
-
-[[tune.parameter]]
-name = "phi"
-type = "real"
-range = [1.1, 2.0]
-
-[[tune.parameter]]
-name = "rho0"
-type = "int"
-range = [10, 80]
-log = true
-
-[[instance]]
-name = "s3"
-targets = [0.105]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 3 }
-
-[[instance]]
-name = "s4"
-targets = [0.105]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 4 }
-
-[[instance]]
-name = "s5"
-targets = [0.105]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 5 }
-
-[[algorithm]]
-label = "AED"
-kind = "aed"
-TOML
+# The same tiny spec as the tuning tests (crates/harness/tests/tune.rs).
+cp crates/harness/tests/data/tiny-tune.toml "$WORK/tiny-tune.toml"
 
 start=$(date +%s)
-"$BIN" tune "$WORK/ci-tune.toml" --out "$WORK/out"
+"$BIN" tune "$WORK/tiny-tune.toml" --out "$WORK/out"
 test -s "$WORK/out/elites.csv" || { echo "ci-irace: no elites.csv" >&2; exit 1; }
 test -s "$WORK/out/irace/irace.out" || { echo "ci-irace: no irace output" >&2; exit 1; }
-"$BIN" check "$WORK/out/ci-tune-validation.toml" > /dev/null
-"$BIN" run "$WORK/out/ci-tune-validation.toml" --out "$WORK/validation" --no-plots --progress quiet > /dev/null
+"$BIN" check "$WORK/out/tiny-tune-validation.toml" > /dev/null
+"$BIN" run "$WORK/out/tiny-tune-validation.toml" --out "$WORK/validation" --no-plots --progress quiet > /dev/null
 test -s "$WORK/validation/tests.csv" || { echo "ci-irace: validation wrote no tests.csv" >&2; exit 1; }
 grep -q "lr_p_holm" "$WORK/validation/tests.csv" || { echo "ci-irace: tests.csv lacks the log-rank test" >&2; exit 1; }
 echo "ci-irace: ok in $(( $(date +%s) - start )) s (elites: $(tail -n +2 "$WORK/out/elites.csv" | wc -l))"

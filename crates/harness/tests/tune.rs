@@ -11,63 +11,7 @@ use harness::tune::validation::validation_spec;
 use harness::tune::{CostKind, ParamType};
 
 /// A tiny tuning spec: 400-sample instances, AED, evaluation cutoffs (deterministic costs).
-const TINY_TUNE: &str = r#"
-name = "tiny-tune"
-seed = 5
-trials = 3
-
-[budget]
-evaluations = 400000
-
-[tune]
-train = ["s3", "s4"]
-test = ["s5"]
-budget = 120
-cost = "evaluations"
-cutoff = 400000
-seed = 2
-parallel = 2
-elites = 2
-validation_trials = 4
-
-[[tune.parameter]]
-name = "phi"
-type = "real"
-range = [1.1, 2.0]
-
-[[tune.parameter]]
-name = "rho0"
-type = "int"
-range = [10, 80]
-log = true
-condition = "phi > 1.2"
-
-[[instance]]
-name = "s3"
-targets = [0.105, 0.12]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 3 }
-
-[[instance]]
-name = "s4"
-targets = [0.105, 0.12]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 4 }
-
-[[instance]]
-name = "s5"
-targets = [0.105, 0.12]
-synthetic = { params = "tuning", samples = 400, sigma = 0.1, seed = 5 }
-
-[[algorithm]]
-label = "AED"
-kind = "aed"
-
-[plots]
-draw = ["rtd"]
-formats = ["svg"]
-
-[stats]
-bootstrap = 50
-"#;
+const TINY_TUNE: &str = include_str!("data/tiny-tune.toml");
 
 /// What irace 3.5 prints at the end of a run (trimmed).
 const IRACE_TAIL: &str = "\
