@@ -193,6 +193,22 @@ fn triangular_full_rank(t: &[f64], n: usize) -> bool {
     dmax > 0.0 && (0..n).all(|i| t[i * n + i].abs() > QR_RANK_TOL * dmax)
 }
 
+/// From a Householder QR done in place (column-major, `ld` rows, `n` columns) and its rotated
+/// right-hand side `Q^T rhs` (length `ld`): the `n x n` upper triangle `r` and the first `n`
+/// entries `c`, zero in the rows from `ld` on (a QR with fewer rows than columns).
+fn triangle_of_qr(qr: &[f64], ld: usize, qtr: &[f64], n: usize, r: &mut [f64], c: &mut [f64]) {
+    for j in 0..n {
+        for i in 0..n {
+            r[j * n + i] = if i <= j && i < ld {
+                qr[j * ld + i]
+            } else {
+                0.0
+            };
+        }
+        c[j] = if j < ld { qtr[j] } else { 0.0 };
+    }
+}
+
 impl Workspace {
     fn prepare(&mut self, m: usize, p: usize) {
         self.m = m;
@@ -367,16 +383,14 @@ impl Workspace {
         }
         self.rq[..m].copy_from_slice(&self.r[..m]);
         householder_qr(&mut self.qr[..m * p], m, p, &mut self.rq[..m]);
-        for j in 0..p {
-            for i in 0..p {
-                self.rmat[j * p + i] = if i <= j && i < m {
-                    self.qr[j * m + i]
-                } else {
-                    0.0
-                };
-            }
-            self.cvec[j] = if j < m { self.rq[j] } else { 0.0 };
-        }
+        triangle_of_qr(
+            &self.qr[..m * p],
+            m,
+            &self.rq[..m],
+            p,
+            &mut self.rmat[..p * p],
+            &mut self.cvec[..p],
+        );
     }
 
     /// Builds the model Hessian for the chosen model.
@@ -493,16 +507,14 @@ impl Workspace {
             n,
             &mut self.ls_rhs[..rows],
         );
-        for b in 0..n {
-            for a in 0..n {
-                self.ls_t[b * n + a] = if a <= b && a < rows {
-                    self.ls_block[b * rows + a]
-                } else {
-                    0.0
-                };
-            }
-            self.ls_u[b] = if b < rows { self.ls_rhs[b] } else { 0.0 };
-        }
+        triangle_of_qr(
+            &self.ls_block[..rows * n],
+            rows,
+            &self.ls_rhs[..rows],
+            n,
+            &mut self.ls_t[..n * n],
+            &mut self.ls_u[..n],
+        );
     }
 
     /// The free-set model at the partial step `s` in normal form (augmented model): scaled
