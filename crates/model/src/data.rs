@@ -7,6 +7,11 @@ use std::io::Write;
 
 /// BRDF samples stored structure-of-arrays: incident direction `u`, exitant direction `v`
 /// (unit vectors pointing away from the surface, z = normal) and the measured value.
+///
+/// Beside the directions it keeps the products every lobe needs, `P = ux vx`, `Q = uy vy`,
+/// `R = ux vy + uy vx` (one rounding, as a fused multiply-add gives) and `S = uz vz`: they are
+/// the same for every parameter vector, so the kernels read four columns instead of six and
+/// skip recomputing them for each lobe, evaluation and Jacobian column.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DataSet {
     pub(crate) ux: Vec<f64>,
@@ -16,6 +21,10 @@ pub struct DataSet {
     pub(crate) vy: Vec<f64>,
     pub(crate) vz: Vec<f64>,
     pub(crate) value: Vec<f64>,
+    pub(crate) pxx: Vec<f64>,
+    pub(crate) pyy: Vec<f64>,
+    pub(crate) pxy: Vec<f64>,
+    pub(crate) pzz: Vec<f64>,
 }
 
 /// Borrowed columns of a range of samples (what the evaluation kernels read).
@@ -28,6 +37,21 @@ pub(crate) struct View<'a> {
     pub(crate) vy: &'a [f64],
     pub(crate) vz: &'a [f64],
     pub(crate) value: &'a [f64],
+    pub(crate) pxx: &'a [f64],
+    pub(crate) pyy: &'a [f64],
+    pub(crate) pxy: &'a [f64],
+    pub(crate) pzz: &'a [f64],
+}
+
+/// The direction products `[P, Q, R, S]` of one sample (see [`DataSet`]).
+#[inline]
+fn products(u: [f64; 3], v: [f64; 3]) -> [f64; 4] {
+    [
+        u[0] * v[0],
+        u[1] * v[1],
+        u[0].mul_add(v[1], u[1] * v[0]),
+        u[2] * v[2],
+    ]
 }
 
 impl DataSet {
@@ -47,6 +71,10 @@ impl DataSet {
             vy: v(),
             vz: v(),
             value: v(),
+            pxx: v(),
+            pyy: v(),
+            pxy: v(),
+            pzz: v(),
         }
     }
 
@@ -58,7 +86,7 @@ impl DataSet {
             return None;
         }
         let [ux, uy, uz, vx, vy, vz, value] = cols;
-        Some(DataSet {
+        let mut d = DataSet {
             ux,
             uy,
             uz,
@@ -66,7 +94,30 @@ impl DataSet {
             vy,
             vz,
             value,
-        })
+            ..DataSet::default()
+        };
+        d.fill_products();
+        Some(d)
+    }
+
+    /// Computes the product columns from the directions.
+    fn fill_products(&mut self) {
+        let n = self.len();
+        for c in [&mut self.pxx, &mut self.pyy, &mut self.pxy, &mut self.pzz] {
+            c.clear();
+            c.reserve(n);
+        }
+        for i in 0..n {
+            self.push_products(self.u(i), self.v(i));
+        }
+    }
+
+    fn push_products(&mut self, u: [f64; 3], v: [f64; 3]) {
+        let [p, q, r, s] = products(u, v);
+        self.pxx.push(p);
+        self.pyy.push(q);
+        self.pxy.push(r);
+        self.pzz.push(s);
     }
 
     /// Samples `lo..hi` as borrowed columns.
@@ -79,6 +130,10 @@ impl DataSet {
             vy: &self.vy[lo..hi],
             vz: &self.vz[lo..hi],
             value: &self.value[lo..hi],
+            pxx: &self.pxx[lo..hi],
+            pyy: &self.pyy[lo..hi],
+            pxy: &self.pxy[lo..hi],
+            pzz: &self.pzz[lo..hi],
         }
     }
 
@@ -101,6 +156,7 @@ impl DataSet {
         self.vy.push(v[1]);
         self.vz.push(v[2]);
         self.value.push(value);
+        self.push_products(u, v);
     }
 
     /// Removes all samples, keeping the capacity.
@@ -113,6 +169,10 @@ impl DataSet {
             &mut self.vy,
             &mut self.vz,
             &mut self.value,
+            &mut self.pxx,
+            &mut self.pyy,
+            &mut self.pxy,
+            &mut self.pzz,
         ] {
             c.clear();
         }
@@ -458,6 +518,34 @@ impl Subsampler {
 mod tests {
     use super::*;
     use crate::params::named_params;
+
+    #[test]
+    fn product_columns_follow_every_way_of_building_a_data_set() {
+        let a = synthetic(&named_params("cross").unwrap(), 300, 0.1, 3);
+        let cols = [
+            a.ux.clone(),
+            a.uy.clone(),
+            a.uz.clone(),
+            a.vx.clone(),
+            a.vy.clone(),
+            a.vz.clone(),
+            a.value.clone(),
+        ];
+        let b = DataSet::from_columns(cols).unwrap();
+        assert_eq!(a, b);
+        let mut c = b.clone();
+        c.clear();
+        let rows: Vec<u32> = (0..300).rev().collect();
+        a.gather_into(&rows, &mut c);
+        for (j, i) in (0..300).rev().enumerate() {
+            let (u, v) = (a.u(i), a.v(i));
+            assert_eq!(c.pxx[j], u[0] * v[0]);
+            assert_eq!(c.pyy[j], u[1] * v[1]);
+            assert_eq!(c.pxy[j], u[0].mul_add(v[1], u[1] * v[0]));
+            assert_eq!(c.pzz[j], u[2] * v[2]);
+        }
+        assert_eq!(c.pxx.len(), c.len());
+    }
 
     #[test]
     fn synthetic_is_seeded_and_uniform() {

@@ -120,14 +120,24 @@ pub fn exp<A: MulAdd>(x: f64) -> f64 {
     sel(x.is_nan(), x, y)
 }
 
-/// `max(0, d)^n` and `ln d` (0 when `d <= 0`): the lobe kernel. `d <= 0` gives `(0, 0)` for
-/// every `n`; `n = 0` with `d > 0` gives 1.
+/// `ln d`, or 0 when `d <= 0`: the first stage of the lobe kernel.
 #[inline(always)]
-pub fn pow_clamped<A: MulAdd>(d: f64, n: f64) -> (f64, f64) {
-    let pos = d > 0.0;
-    let l = ln_pos::<A>(sel(pos, d, 1.0));
-    let f = exp::<A>(n * l);
-    (sel(pos, f, 0.0), l)
+pub fn ln_clamped<A: MulAdd>(d: f64) -> f64 {
+    ln_pos::<A>(sel(d > 0.0, d, 1.0))
+}
+
+/// `max(0, d)^n` from `l = ln_clamped(d)`: the second stage. `d <= 0` gives 0 for every `n`;
+/// `n = 0` with `d > 0` gives 1.
+#[inline(always)]
+pub fn pow_from_ln<A: MulAdd>(d: f64, n: f64, l: f64) -> f64 {
+    sel(d > 0.0, exp::<A>(n * l), 0.0)
+}
+
+/// `(max(0, d)^n, ln d)` in one call (the two stages composed).
+#[cfg(test)]
+fn pow_clamped<A: MulAdd>(d: f64, n: f64) -> (f64, f64) {
+    let l = ln_clamped::<A>(d);
+    (pow_from_ln::<A>(d, n, l), l)
 }
 
 #[cfg(test)]
