@@ -112,6 +112,26 @@ impl DataSet {
         }
     }
 
+    /// Appends sample `i` of `src`, copying its products rather than recomputing them.
+    fn push_row(&mut self, src: &DataSet, i: usize) {
+        let cols = [
+            (&mut self.ux, &src.ux),
+            (&mut self.uy, &src.uy),
+            (&mut self.uz, &src.uz),
+            (&mut self.vx, &src.vx),
+            (&mut self.vy, &src.vy),
+            (&mut self.vz, &src.vz),
+            (&mut self.value, &src.value),
+            (&mut self.pxx, &src.pxx),
+            (&mut self.pyy, &src.pyy),
+            (&mut self.pxy, &src.pxy),
+            (&mut self.pzz, &src.pzz),
+        ];
+        for (dst, from) in cols {
+            dst.push(from[i]);
+        }
+    }
+
     fn push_products(&mut self, u: [f64; 3], v: [f64; 3]) {
         let [p, q, r, s] = products(u, v);
         self.pxx.push(p);
@@ -227,7 +247,7 @@ impl DataSet {
         for &r in rows {
             let i = r as usize;
             if i < n {
-                out.push(self.u(i), self.v(i), self.value[i]);
+                out.push_row(self, i);
             }
         }
     }
