@@ -12,7 +12,7 @@ use std::io::Write;
 /// `R = ux vy + uy vx` (one rounding, as a fused multiply-add gives) and `S = uz vz`: they are
 /// the same for every parameter vector, so the kernels read four columns instead of six and
 /// skip recomputing them for each lobe, evaluation and Jacobian column.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct DataSet {
     pub(crate) ux: Vec<f64>,
     pub(crate) uy: Vec<f64>,
@@ -25,6 +25,30 @@ pub struct DataSet {
     pub(crate) pyy: Vec<f64>,
     pub(crate) pxy: Vec<f64>,
     pub(crate) pzz: Vec<f64>,
+    /// Changes (to a value never used before) whenever the samples change, so that an
+    /// evaluator can tell that the data behind a cached evaluation are still the same. Clones
+    /// share it: their samples are equal. 0 only for a data set never written to.
+    pub(crate) stamp: u64,
+}
+
+/// Two data sets are equal when their samples are (the stamps do not matter).
+impl PartialEq for DataSet {
+    fn eq(&self, other: &Self) -> bool {
+        self.ux == other.ux
+            && self.uy == other.uy
+            && self.uz == other.uz
+            && self.vx == other.vx
+            && self.vy == other.vy
+            && self.vz == other.vz
+            && self.value == other.value
+    }
+}
+
+/// Source of [`DataSet::stamp`] values.
+static NEXT_STAMP: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+fn fresh_stamp() -> u64 {
+    NEXT_STAMP.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// Borrowed columns of a range of samples (what the evaluation kernels read).
@@ -75,6 +99,7 @@ impl DataSet {
             pyy: v(),
             pxy: v(),
             pzz: v(),
+            stamp: 0,
         }
     }
 
@@ -102,6 +127,7 @@ impl DataSet {
 
     /// Computes the product columns from the directions.
     fn fill_products(&mut self) {
+        self.stamp = fresh_stamp();
         let n = self.len();
         for c in [&mut self.pxx, &mut self.pyy, &mut self.pxy, &mut self.pzz] {
             c.clear();
@@ -114,6 +140,7 @@ impl DataSet {
 
     /// Appends sample `i` of `src`, copying its products rather than recomputing them.
     fn push_row(&mut self, src: &DataSet, i: usize) {
+        self.stamp = fresh_stamp();
         let cols = [
             (&mut self.ux, &src.ux),
             (&mut self.uy, &src.uy),
@@ -177,10 +204,12 @@ impl DataSet {
         self.vz.push(v[2]);
         self.value.push(value);
         self.push_products(u, v);
+        self.stamp = fresh_stamp();
     }
 
     /// Removes all samples, keeping the capacity.
     pub fn clear(&mut self) {
+        self.stamp = fresh_stamp();
         for c in [
             &mut self.ux,
             &mut self.uy,

@@ -11,6 +11,12 @@
 //! Pan columns are derivatives **per degree** (the internal pan coordinate is degrees):
 //! `∂d/∂pan = π/180 · (Cx − Cy)(sin 2p (Q − P) + cos 2p R)`.
 //!
+//! [`Evaluator::residuals`] on [`POWERS_MIN_ROWS`] or more samples (generic kernels) keeps each
+//! lobe's `d^n` and `ln d`; a Jacobian at the same point (bit for bit), on the same samples
+//! (the data set's stamp) and with the same kernel reuses them instead of recomputing the
+//! logarithm and exponential, which are most of its cost. That is what a descent does after
+//! every accepted step.
+//!
 //! Safety over the box: `d <= 0` gives 0 with zero derivatives (also for `n = 0`);
 //! `n = 0`, `d > 0` gives 1 with zero C-derivatives; when `d > 1` and `n` is large the value
 //! overflows to `+inf`, and then [`Evaluator::residuals`] / [`Evaluator::jacobian`] return
@@ -105,6 +111,41 @@ pub struct Evaluator {
     sub: DataSet,
     /// The concrete kernel in use (never [`Kernel::Auto`]).
     kernel: Kernel,
+    /// `d^n` and `ln d` of every lobe and sample from the last [`Evaluator::residuals`] on a
+    /// data set of at least [`POWERS_MIN_ROWS`] samples, and where they were computed.
+    powers: Vec<f64>,
+    powers_at: PowersKey,
+}
+
+/// Residual evaluations on this many samples or more keep their powers for the Jacobian: a
+/// descent asks for the Jacobian at each accepted point, where the residuals were just
+/// computed, and the logarithm and exponential are most of the Jacobian's cost.
+pub const POWERS_MIN_ROWS: usize = 256;
+
+/// Where [`Evaluator::powers`](Evaluator) were computed: the point (bit for bit), the data set
+/// (its stamp, which changes with every change of its samples), the rows and the kernel.
+#[derive(Clone, Debug, Default)]
+struct PowersKey {
+    valid: bool,
+    x: Vec<f64>,
+    stamp: u64,
+    rows: usize,
+    kernel: Option<Kernel>,
+}
+
+impl PowersKey {
+    fn matches(&self, x: &[f64], data: &DataSet, rows: usize, kernel: Kernel) -> bool {
+        self.valid
+            && self.stamp == data.stamp
+            && self.rows == rows
+            && self.kernel == Some(kernel)
+            && self.x.len() == x.len()
+            && self
+                .x
+                .iter()
+                .zip(x)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
 }
 
 impl Evaluator {
@@ -162,6 +203,8 @@ impl Evaluator {
             rbuf: Vec::new(),
             sub: DataSet::new(),
             kernel: Kernel::Auto.concrete(),
+            powers: Vec::new(),
+            powers_at: PowersKey::default(),
         }
     }
 
@@ -276,7 +319,35 @@ impl Evaluator {
             return false;
         }
         let kd = self.prepare(x);
-        residuals_view(self.kernel, &self.coefs, kd, &data.view(0, r.len()), r)
+        let m = r.len();
+        let keep = m >= POWERS_MIN_ROWS && matches!(self.kernel, Kernel::Avx2 | Kernel::Portable);
+        if !keep {
+            return residuals_view(self.kernel, &self.coefs, kd, &data.view(0, m), r);
+        }
+        self.powers_at.valid = false;
+        self.powers.resize(2 * self.coefs.len() * m, 0.0);
+        let view = data.view(0, m);
+        let ok = residuals_keeping(
+            self.kernel,
+            &self.coefs,
+            kd,
+            &view,
+            r,
+            Some(&mut self.powers),
+        );
+        if ok {
+            let key = &mut self.powers_at;
+            key.x.clear();
+            key.x.extend_from_slice(x);
+            (key.stamp, key.rows, key.kernel, key.valid) = (data.stamp, m, Some(self.kernel), true);
+        }
+        ok
+    }
+
+    /// Drops the powers kept by the last [`Evaluator::residuals`], so that the next Jacobian
+    /// computes every `d^n` itself (what a benchmark of the Jacobian alone wants).
+    pub fn forget_powers(&mut self) {
+        self.powers_at.valid = false;
     }
 
     /// Column-major Jacobian `jac[j * m + i] = d r_i / d x_j` (length `m * dim`). Returns false
@@ -304,12 +375,14 @@ impl Evaluator {
         let kd = self.prepare(x);
         self.g.resize(m.min(BLOCK), 0.0);
         self.h.resize(m.min(BLOCK), 0.0);
+        let cached = self.powers_at.matches(x, data, m, self.kernel);
         let w = JacWork {
             coefs: &self.coefs,
             cols: &self.cols,
             coord: self.layout.exponent_coord(),
             kd,
             data,
+            powers: cached.then_some(&self.powers[..]),
         };
         match self.kernel {
             #[cfg(target_arch = "x86_64")]
@@ -428,15 +501,28 @@ pub const SUM_BLOCK: usize = 1024;
 
 /// Residuals of samples `data` into `r` with the kernel `kernel` (concrete).
 fn residuals_view(kernel: Kernel, coefs: &[Coef], kd: f64, data: &View<'_>, r: &mut [f64]) -> bool {
+    residuals_keeping(kernel, coefs, kd, data, r, None)
+}
+
+/// [`residuals_view`] that also stores every lobe's `d^n` and `ln d` in `keep` (generic kernels
+/// only; `keep` is ignored by the others).
+fn residuals_keeping(
+    kernel: Kernel,
+    coefs: &[Coef],
+    kd: f64,
+    data: &View<'_>,
+    r: &mut [f64],
+    keep: Option<&mut [f64]>,
+) -> bool {
     match kernel {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: a kernel is only selected when the CPU reports its features.
         Kernel::Avx512 => unsafe { simd::residuals512(coefs, kd, data, r) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        Kernel::Avx2 => unsafe { simd::residuals(coefs, kd, data, r) },
+        Kernel::Avx2 => unsafe { simd::residuals(coefs, kd, data, r, keep) },
         Kernel::Scalar => scalar::residuals(coefs, kd, data, r),
-        _ => residuals_impl::<Plain, GENERIC>(coefs, kd, data, r),
+        _ => residuals_impl::<Plain, GENERIC>(coefs, kd, data, r, keep),
     }
 }
 
@@ -674,12 +760,22 @@ fn all_finite(v: &[f64]) -> bool {
 /// as computing `d^n` sample by sample, so the results are bit-identical.
 const CHUNK: usize = 64;
 
-/// Adds lobe values to `out`.
+/// Adds lobe values to `out`; with `keep = Some((f, l))` also stores each sample's `d^n` in
+/// `f` and `ln d` in `l` (both `out.len()` long) for a later Jacobian at the same point.
 #[inline(always)]
-fn lobe_values<A: MulAdd, const R: bool>(c: &Coef, d: &View<'_>, out: &mut [f64]) {
+fn lobe_values<A: MulAdd, const R: bool>(
+    c: &Coef,
+    d: &View<'_>,
+    out: &mut [f64],
+    keep: Option<(&mut [f64], &mut [f64])>,
+) {
     let m = out.len();
     let mut dd = [0.0f64; CHUNK];
-    let mut ll = [0.0f64; CHUNK];
+    let mut stack_l = [0.0f64; CHUNK];
+    let (mut kf, mut kl) = match keep {
+        Some((f, l)) => (Some(f), Some(l)),
+        None => (None, None),
+    };
     for lo in (0..m).step_by(CHUNK) {
         let hi = (lo + CHUNK).min(m);
         let k = hi - lo;
@@ -689,14 +785,34 @@ fn lobe_values<A: MulAdd, const R: bool>(c: &Coef, d: &View<'_>, out: &mut [f64]
             &d.pxy[lo..hi],
             &d.pzz[lo..hi],
         ];
-        let (dd, ll, out) = (&mut dd[..k], &mut ll[..k], &mut out[lo..hi]);
+        let (dd, out) = (&mut dd[..k], &mut out[lo..hi]);
         direction_products::<A, R>(c, pqrs, dd);
-        let n = c.n;
+        let ll = match kl.as_deref_mut() {
+            Some(l) => &mut l[lo..hi],
+            None => &mut stack_l[..k],
+        };
         for (l, &x) in ll.iter_mut().zip(dd.iter()) {
             *l = ln_clamped::<A>(x);
         }
-        for ((o, &l), &x) in out.iter_mut().zip(ll.iter()).zip(dd.iter()) {
-            *o += pow_from_ln::<A>(x, n, l);
+        let n = c.n;
+        match kf.as_deref_mut() {
+            Some(f) => {
+                let f = &mut f[lo..hi];
+                for (((o, fo), &l), &x) in out
+                    .iter_mut()
+                    .zip(f.iter_mut())
+                    .zip(ll.iter())
+                    .zip(dd.iter())
+                {
+                    *fo = pow_from_ln::<A>(x, n, l);
+                    *o += *fo;
+                }
+            }
+            None => {
+                for ((o, &l), &x) in out.iter_mut().zip(ll.iter()).zip(dd.iter()) {
+                    *o += pow_from_ln::<A>(x, n, l);
+                }
+            }
         }
     }
 }
@@ -718,6 +834,8 @@ fn direction_products<A: MulAdd, const R: bool>(c: &Coef, pqrs: [&[f64]; 4], dd:
 }
 
 /// Adds lobe values to `out` and stores `g = n d^n / d` and `h = d^n ln d` (0 where `d <= 0`).
+/// With `cached = Some((f, l))` (this block's `d^n` and `ln d` from [`lobe_values`] at the same
+/// point) the logarithm and exponential are not recomputed; the results are the same bits.
 #[inline(always)]
 fn lobe_full<A: MulAdd, const R: bool>(
     c: &Coef,
@@ -726,6 +844,7 @@ fn lobe_full<A: MulAdd, const R: bool>(
     out: &mut [f64],
     g: &mut [f64],
     h: &mut [f64],
+    cached: Option<(&[f64], &[f64])>,
 ) {
     let m = out.len();
     let hi = lo + m;
@@ -740,18 +859,36 @@ fn lobe_full<A: MulAdd, const R: bool>(
     let (ga, gb) = g_factors(n);
     // Stages as in `lobe_values`, with `g` holding `d` and `h` holding `ln d` in between.
     direction_products::<A, R>(c, pqrs, g);
-    for (l, &x) in h.iter_mut().zip(g.iter()) {
-        *l = ln_clamped::<A>(x);
-    }
-    for ((o, gi), hi) in out.iter_mut().zip(g.iter_mut()).zip(h.iter_mut()) {
-        let (x, l) = (*gi, *hi);
-        let pos = x > 0.0;
-        let f = pow_from_ln::<A>(x, n, l);
+    let finish = |o: &mut f64, gi: &mut f64, hi: &mut f64, f: f64, l: f64| {
+        let x = *gi;
         *o += f;
         // n = 0 must give 0 even when d^n / d overflows.
-        let gv = f * ga / if pos { x } else { 1.0 } * gb;
+        let gv = f * ga / if x > 0.0 { x } else { 1.0 } * gb;
         *gi = if n == 0.0 { 0.0 } else { gv };
         *hi = f * l;
+    };
+    match cached {
+        Some((cf, cl)) => {
+            let (cf, cl) = (&cf[..m], &cl[..m]);
+            for ((((o, gi), hi), &f), &l) in out
+                .iter_mut()
+                .zip(g.iter_mut())
+                .zip(h.iter_mut())
+                .zip(cf)
+                .zip(cl)
+            {
+                finish(o, gi, hi, f, l);
+            }
+        }
+        None => {
+            for (l, &x) in h.iter_mut().zip(g.iter()) {
+                *l = ln_clamped::<A>(x);
+            }
+            for ((o, gi), hi) in out.iter_mut().zip(g.iter_mut()).zip(h.iter_mut()) {
+                let (x, l) = (*gi, *hi);
+                finish(o, gi, hi, pow_from_ln::<A>(x, n, l), l);
+            }
+        }
     }
 }
 
@@ -831,12 +968,14 @@ fn residuals_impl<A: MulAdd, const K: u8>(
     kd: f64,
     data: &View<'_>,
     r: &mut [f64],
+    mut keep: Option<&mut [f64]>,
 ) -> bool {
     let m = r.len();
     for (ri, &y) in r.iter_mut().zip(&data.value[..m]) {
         *ri = kd - y;
     }
-    for c in coefs {
+    for (lobe, c) in coefs.iter().enumerate() {
+        let keep = keep.as_deref_mut().map(|p| lobe_powers_mut(p, m, lobe));
         if K == AVX512 {
             // SAFETY: K == AVX512 is only instantiated inside AVX-512F functions.
             #[cfg(target_arch = "x86_64")]
@@ -844,12 +983,23 @@ fn residuals_impl<A: MulAdd, const K: u8>(
                 crate::avx512::lobe_values(&[c.ap, c.aq, c.ar, c.cz], c.n, !c.no_r, data, r)
             };
         } else if c.no_r {
-            lobe_values::<A, false>(c, data, r);
+            lobe_values::<A, false>(c, data, r, keep);
         } else {
-            lobe_values::<A, true>(c, data, r);
+            lobe_values::<A, true>(c, data, r, keep);
         }
     }
     all_finite(r)
+}
+
+/// Lobe `lobe`'s `(d^n, ln d)` columns in a powers buffer laid out `[f_0, l_0, f_1, l_1, ...]`,
+/// each `m` long.
+fn lobe_powers_mut(p: &mut [f64], m: usize, lobe: usize) -> (&mut [f64], &mut [f64]) {
+    p[2 * lobe * m..(2 * lobe + 2) * m].split_at_mut(m)
+}
+
+/// Read-only [`lobe_powers_mut`].
+fn lobe_powers(p: &[f64], m: usize, lobe: usize) -> (&[f64], &[f64]) {
+    p[2 * lobe * m..(2 * lobe + 2) * m].split_at(m)
 }
 
 struct JacWork<'a> {
@@ -858,6 +1008,9 @@ struct JacWork<'a> {
     coord: ExponentCoord,
     kd: f64,
     data: &'a DataSet,
+    /// `d^n` and `ln d` of every lobe and sample at this point, when a residual evaluation
+    /// at the same point and data left them (generic kernels only).
+    powers: Option<&'a [f64]>,
 }
 
 #[inline(always)]
@@ -905,13 +1058,15 @@ fn jacobian_impl<A: MulAdd, const K: u8>(
             };
             continue;
         }
+        let powers = w.powers.map(|p| lobe_powers(p, m, l));
         for lo in (0..m).step_by(BLOCK) {
             let hi = (lo + BLOCK).min(m);
             let (gb, hb) = (&mut g[..hi - lo], &mut h[..hi - lo]);
+            let cached = powers.map(|(f, lg)| (&f[lo..hi], &lg[lo..hi]));
             if c.no_r {
-                lobe_full::<A, false>(c, data, lo, &mut r[lo..hi], gb, hb);
+                lobe_full::<A, false>(c, data, lo, &mut r[lo..hi], gb, hb, cached);
             } else {
-                lobe_full::<A, true>(c, data, lo, &mut r[lo..hi], gb, hb);
+                lobe_full::<A, true>(c, data, lo, &mut r[lo..hi], gb, hb, cached);
             }
             ok &= all_finite(gb);
             for (k, col) in cols.iter_mut().enumerate() {
@@ -946,8 +1101,9 @@ mod simd {
         kd: f64,
         data: &View<'_>,
         r: &mut [f64],
+        keep: Option<&mut [f64]>,
     ) -> bool {
-        residuals_impl::<Fused, GENERIC>(coefs, kd, data, r)
+        residuals_impl::<Fused, GENERIC>(coefs, kd, data, r, keep)
     }
 
     /// # Safety
@@ -959,7 +1115,7 @@ mod simd {
         data: &View<'_>,
         r: &mut [f64],
     ) -> bool {
-        residuals_impl::<Fused, AVX512>(coefs, kd, data, r)
+        residuals_impl::<Fused, AVX512>(coefs, kd, data, r, None)
     }
 
     /// # Safety
