@@ -1,5 +1,5 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
-//! radius rule) and writes the per-problem table to
+//! radius rule, and both models with the secant term in the scaling) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
@@ -15,17 +15,27 @@ fn main() {
     let defaults = Options::default();
     let mut tables = String::new();
     let configs = [
-        (StepModel::GaussNewton, defaults.radius_update),
-        (StepModel::Adaptive, defaults.radius_update),
-        (StepModel::GaussNewton, RadiusUpdate::Classic),
+        (StepModel::GaussNewton, defaults.radius_update, false),
+        (StepModel::Adaptive, defaults.radius_update, false),
+        (StepModel::GaussNewton, RadiusUpdate::Classic, false),
+        (StepModel::GaussNewton, defaults.radius_update, true),
+        (StepModel::Adaptive, defaults.radius_update, true),
     ];
-    for (model, radius_update) in configs {
+    for (model, radius_update, secant_scaling) in configs {
         let options = Options {
             model,
             radius_update,
+            secant_scaling,
             ..Options::default()
         };
-        let label = format!("{model:?}, {radius_update:?} radius");
+        let label = format!(
+            "{model:?}, {radius_update:?} radius{}",
+            if secant_scaling {
+                ", secant scaling"
+            } else {
+                ""
+            }
+        );
         let runs = nist::run_all(&options);
         let correct = runs.iter().filter(|r| r.correct()).count();
         let wrong_success = runs
@@ -44,7 +54,10 @@ fn main() {
         let _ = writeln!(
             tables,
             "\n## {label}{}\n",
-            if model == defaults.model && radius_update == defaults.radius_update {
+            if model == defaults.model
+                && radius_update == defaults.radius_update
+                && secant_scaling == defaults.secant_scaling
+            {
                 " (default)"
             } else {
                 ""

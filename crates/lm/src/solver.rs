@@ -287,11 +287,16 @@ impl Workspace {
     /// column 2-norm of the original NL2SOL instead of the column max); a column whose norm is
     /// below 1e-6 uses 1 instead, so a dead parameter keeps a sane scale. Measured on NIST (GN
     /// model, default budgets): this rule 50/54, column max 44/54, non-decreasing 2-norm
-    /// (MINPACK) 49/54.
-    fn update_scaling(&mut self, first: bool) {
-        let m = self.m;
-        for j in 0..self.p {
-            let cn = norm(&self.jac[j * m..(j + 1) * m]);
+    /// (MINPACK) 49/54. With `secant`, `||J_i||_2` becomes `sqrt(||J_i||^2 + S_ii)` where
+    /// `S_ii > 0` (NL2SOL's DUPDAT: the diagonal of the augmented Hessian `J^T J + S`).
+    fn update_scaling(&mut self, first: bool, secant: bool) {
+        let (m, p) = (self.m, self.p);
+        for j in 0..p {
+            let mut cn = norm(&self.jac[j * m..(j + 1) * m]);
+            let sii = self.s_mat[j * p + j];
+            if secant && sii > 0.0 {
+                cn = (cn * cn + sii).sqrt();
+            }
             let cand = if cn < 1e-6 { 1.0 } else { cn };
             self.d[j] = if first {
                 cand
@@ -810,6 +815,17 @@ impl Workspace {
         let (m, p) = (self.m, self.p);
         self.x[..p].copy_from_slice(&self.x_prev[..p]);
         self.r[..m].copy_from_slice(&self.r_prev[..m]);
+    }
+
+    /// The secant update after an accepted step from `g` (new gradient), `g_prev` and
+    /// `ysharp` holding `J_old^T r_new`: `y = g_new - g_old`, `y# = J_new^T r_new - J_old^T
+    /// r_new`.
+    fn secant_update_from_gradients(&mut self) {
+        for i in 0..self.p {
+            self.y[i] = self.g[i] - self.g_prev[i];
+            self.ysharp[i] = self.g[i] - self.ysharp[i];
+        }
+        self.secant_update();
     }
 
     /// NL2SOL's secant update of `S` after an accepted step (`step` = s, `y` = gradient change,
@@ -1624,7 +1640,10 @@ impl<'o> Descent<'o> {
         if problem.should_stop() {
             return Ok(Some(Outcome::Interrupted));
         }
-        if self.have_prev_jacobian && self.model.adaptive {
+        // S is kept by the secant update for the augmented model and for the scaling.
+        let secant_scaling = self.opt.secant_scaling;
+        let keep_secant = self.have_prev_jacobian && (self.model.adaptive || secant_scaling);
+        if keep_secant {
             // (J_old)^T r_new for y# before J is overwritten.
             jt_vec(&ws.jac, &ws.r, m, p, &mut ws.ysharp);
         }
@@ -1649,7 +1668,13 @@ impl<'o> Descent<'o> {
             return Ok(None);
         }
         self.counts.iterations += 1;
-        ws.update_scaling(self.counts.iterations == 1);
+        if keep_secant && secant_scaling {
+            // The scaling needs the updated S, so S is updated before the factorization, from
+            // g = J^T r computed directly (as in NL2SOL, where DUPDAT follows the secant update).
+            jt_vec(&ws.jac, &ws.r, m, p, &mut ws.g);
+            ws.secant_update_from_gradients();
+        }
+        ws.update_scaling(self.counts.iterations == 1, secant_scaling);
         if self.counts.iterations == 1 {
             // Optionally (Options::lift_round_off_radius), a first step that is a round-off
             // change of x is lifted to sqrt(eps) relative to x in the scaled norm.
@@ -1660,13 +1685,10 @@ impl<'o> Descent<'o> {
         }
         ws.factor_jacobian();
         self.radius.start_iteration(ws);
-        if self.have_prev_jacobian && self.model.adaptive {
-            // y = g_new - g_old, y# = J_new^T r_new - J_old^T r_new.
-            for i in 0..p {
-                ws.y[i] = ws.g[i] - ws.g_prev[i];
-                ws.ysharp[i] = ws.g[i] - ws.ysharp[i];
-            }
-            ws.secant_update();
+        if keep_secant && !secant_scaling {
+            // Without the secant term in the scaling, S is updated after the factorization from
+            // the gradient it gives (the order with which the Adaptive results were measured).
+            ws.secant_update_from_gradients();
         }
         self.have_prev_jacobian = true;
         self.need_jacobian = false;
