@@ -5,10 +5,11 @@
 //! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
-//!     [--adaptive]
+//!     [--adaptive] [--secant-scaling]
 //! ```
 //! `--adaptive` runs the descents with NL2SOL's adaptive model choice (N2FB's) instead of the
-//! Gauss-Newton model. `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
+//! Gauss-Newton model; `--secant-scaling` puts the secant term in the scaling (N2FB's rule,
+//! `bounded_lm::Options::secant_scaling`). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -39,6 +40,7 @@ struct Args {
     sigma: f64,
     early_exit: bool,
     adaptive: bool,
+    secant_scaling: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -57,6 +59,7 @@ fn parse() -> Result<Args, String> {
         sigma: 0.1,
         early_exit: true,
         adaptive: false,
+        secant_scaling: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -70,6 +73,10 @@ fn parse() -> Result<Args, String> {
         }
         if flag == "--adaptive" {
             a.adaptive = true;
+            continue;
+        }
+        if flag == "--secant-scaling" {
+            a.secant_scaling = true;
             continue;
         }
         if flag == "--no-early-exit" {
@@ -250,6 +257,7 @@ fn main() {
                 if args.adaptive {
                     ctx.set_step_model(bounded_lm::StepModel::Adaptive);
                 }
+                ctx.set_secant_scaling(args.secant_scaling);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

@@ -273,6 +273,14 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.model = model;
     }
 
+    /// Whether the descents put the secant term in the scaling
+    /// (`bounded_lm::Options::secant_scaling`, N2FB's rule; off by default). On the paper's
+    /// tuning instance it made AED slower (bounded-lm's crate docs), so it is an option for
+    /// comparisons.
+    pub fn set_secant_scaling(&mut self, on: bool) {
+        self.options.secant_scaling = on;
+    }
+
     /// The evaluations counted so far.
     pub fn counts(&self) -> EvalCounts {
         self.meter.counts
