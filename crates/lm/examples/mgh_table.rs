@@ -2,9 +2,10 @@
 //! default options and prints the markdown table; with a path argument it also writes it there.
 //!
 //! `cargo run -p bounded-lm --release --example mgh_table -- crates/lm/MGH.md
-//! [gauss-newton|adaptive|n2fb] [lift] [secant]`
+//! [gauss-newton|adaptive|n2fb] [lift] [secant] [classic]`
 //! (the second argument overrides the default step model, `n2fb` selects `Options::n2fb()`;
-//! `lift` sets `Options::lift_round_off_radius`, `secant` sets `Options::secant_scaling`).
+//! `lift` sets `Options::lift_round_off_radius`, `secant` sets `Options::secant_scaling`,
+//! `classic` selects `RadiusUpdate::Classic`).
 
 #[path = "../tests/common/mgh_run.rs"]
 mod mgh_run;
@@ -23,7 +24,8 @@ fn main() {
         match flag.as_str() {
             "lift" => options.lift_round_off_radius = true,
             "secant" => options.secant_scaling = true,
-            other => panic!("unknown flag {other} (lift, secant)"),
+            "classic" => options.radius_update = bounded_lm::RadiusUpdate::Classic,
+            other => panic!("unknown flag {other} (lift, secant, classic)"),
         }
     }
     let runs = mgh_run::run_all(&options);

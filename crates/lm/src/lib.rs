@@ -303,8 +303,9 @@
 //!
 //! No configuration returns a success code on a wrong unbounded answer. The one boxed miss of
 //! N2FB's configuration is Meyer from 10 x0 with the bound active: code 4 at f = 9911.756, the
-//! value the default reaches with code 5, but the projected gradient is not yet below 1e-6 of
-//! the start's (the table's KKT test). The unbounded failures of the default: Beale, Jennrich
+//! value the default reaches with code 5, but the projected gradient is still 1.7e-5 of the
+//! start's, not below the table's 1e-6 (f has converged to RFCTOL, which is what code 4 claims;
+//! Meyer's scaling is extreme). The unbounded failures of the default: Beale, Jennrich
 //! and Sampson, Meyer, Box 3-D, Osborne 2, Chebyquad (n = 7, 8) and Penalty II (n = 10) from
 //! 10 x0, Brown and Dennis from both starts, Penalty I (n = 4) and Penalty II (n = 10) from x0.
 //! With the Gauss-Newton model the secant scaling solves Brown and Dennis (both starts), Penalty I
