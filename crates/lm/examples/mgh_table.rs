@@ -2,9 +2,9 @@
 //! default options and prints the markdown table; with a path argument it also writes it there.
 //!
 //! `cargo run -p bounded-lm --release --example mgh_table -- crates/lm/MGH.md
-//! [gauss-newton|adaptive|n2fb] [lift] [secant] [classic]`
+//! [gauss-newton|adaptive|n2fb] [lift] [no-secant] [classic]`
 //! (the second argument overrides the default step model, `n2fb` selects `Options::n2fb()`;
-//! `lift` sets `Options::lift_round_off_radius`, `secant` sets `Options::secant_scaling`,
+//! `lift` sets `Options::lift_round_off_radius`, `no-secant` clears `Options::secant_scaling`,
 //! `classic` selects `RadiusUpdate::Classic`).
 
 #[path = "../tests/common/mgh_run.rs"]
@@ -23,9 +23,9 @@ fn main() {
     for flag in std::env::args().skip(3) {
         match flag.as_str() {
             "lift" => options.lift_round_off_radius = true,
-            "secant" => options.secant_scaling = true,
+            "no-secant" => options.secant_scaling = false,
             "classic" => options.radius_update = bounded_lm::RadiusUpdate::Classic,
-            other => panic!("unknown flag {other} (lift, secant, classic)"),
+            other => panic!("unknown flag {other} (lift, no-secant, classic)"),
         }
     }
     let runs = mgh_run::run_all(&options);
@@ -41,9 +41,12 @@ fn main() {
              solved = projected gradient below 1e-6 of the start's.\n\n```\n{summary}```\n\n{table}",
             options.model,
             if options.secant_scaling {
-                ", secant scaling"
+                format!(
+                    ", secant scaling after {} updates per parameter",
+                    options.secant_scaling_delay
+                )
             } else {
-                ""
+                ", no secant scaling".to_string()
             },
             std::env::args()
                 .skip(2)

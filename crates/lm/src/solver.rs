@@ -147,6 +147,8 @@ struct Workspace {
     step_good: Vec<f64>,
     /// Last Levenberg-Marquardt parameter, a warm start for the next subproblem.
     lambda: f64,
+    /// Secant updates of `S` so far in this solve.
+    secant_updates: usize,
 }
 
 /// What a step computation produced.
@@ -281,14 +283,16 @@ impl Workspace {
         self.dead.resize(p, false);
         self.free.resize(p, 0);
         self.lambda = 0.0;
+        self.secant_updates = 0;
     }
 
     /// Updates the scaling: `D_i = max(0.6 D_i, ||J_i||_2)` (N2FB's adaptive rule, but with the
     /// column 2-norm of the original NL2SOL instead of the column max); a column whose norm is
     /// below 1e-6 uses 1 instead, so a dead parameter keeps a sane scale. Measured on NIST (GN
     /// model, default budgets): this rule 50/54, column max 44/54, non-decreasing 2-norm
-    /// (MINPACK) 49/54. With `secant`, `||J_i||_2` becomes `sqrt(||J_i||^2 + S_ii)` where
-    /// `S_ii > 0` (NL2SOL's DUPDAT: the diagonal of the augmented Hessian `J^T J + S`).
+    /// (MINPACK) 49/54. With `secant` (once `S` has had the delay's updates), `||J_i||_2`
+    /// becomes `sqrt(||J_i||^2 + S_ii)` where `S_ii > 0` (NL2SOL's DUPDAT: the diagonal of the
+    /// augmented Hessian `J^T J + S`).
     fn update_scaling(&mut self, first: bool, secant: bool) {
         let (m, p) = (self.m, self.p);
         for j in 0..p {
@@ -831,6 +835,7 @@ impl Workspace {
     /// NL2SOL's secant update of `S` after an accepted step (`step` = s, `y` = gradient change,
     /// `ysharp` = `(J_new - J_old)^T r_new`), with Dennis-Gay-Welsch sizing.
     fn secant_update(&mut self) {
+        self.secant_updates += 1;
         let p = self.p;
         sym_mat_vec(&self.s_mat, &self.step, p, &mut self.secant_w);
         let sss = dot(&self.step[..p], &self.secant_w[..p]);
@@ -1674,7 +1679,11 @@ impl<'o> Descent<'o> {
             jt_vec(&ws.jac, &ws.r, m, p, &mut ws.g);
             ws.secant_update_from_gradients();
         }
-        ws.update_scaling(self.counts.iterations == 1, secant_scaling);
+        // The secant term enters the scaling once S has had `secant_scaling_delay` updates per
+        // parameter (Options::secant_scaling_delay).
+        let secant_in_scaling =
+            secant_scaling && ws.secant_updates >= self.opt.secant_scaling_delay.saturating_mul(p);
+        ws.update_scaling(self.counts.iterations == 1, secant_in_scaling);
         if self.counts.iterations == 1 {
             // Optionally (Options::lift_round_off_radius), a first step that is a round-off
             // change of x is lifted to sqrt(eps) relative to x in the scaled norm.

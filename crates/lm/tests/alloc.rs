@@ -52,15 +52,17 @@ fn repeated_solves_do_not_allocate() {
     let lower = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let upper = [10.0; 6];
     let mut solver = Solver::new();
-    for (model, secant_scaling) in [
-        (StepModel::GaussNewton, false),
-        (StepModel::Adaptive, false),
-        (StepModel::GaussNewton, true),
-        (StepModel::Adaptive, true),
+    for (model, secant_scaling, secant_scaling_delay) in [
+        (StepModel::GaussNewton, false, 2),
+        (StepModel::Adaptive, false, 2),
+        (StepModel::GaussNewton, true, 2),
+        (StepModel::Adaptive, true, 0),
+        (StepModel::GaussNewton, true, 0),
     ] {
         let options = Options {
             model,
             secant_scaling,
+            secant_scaling_delay,
             ..Options::default()
         };
         let start = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];

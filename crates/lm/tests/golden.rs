@@ -75,19 +75,19 @@ fn current() -> String {
     let configs = [
         (
             "gn",
-            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, false),
+            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, true),
         ),
         (
             "adaptive",
-            with(StepModel::Adaptive, RadiusUpdate::Nl2sol, false),
+            with(StepModel::Adaptive, RadiusUpdate::Nl2sol, true),
         ),
         (
             "classic",
-            with(StepModel::GaussNewton, RadiusUpdate::Classic, false),
+            with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
         ),
         (
-            "gn-secant",
-            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, true),
+            "gn-nosecant",
+            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, false),
         ),
         ("n2fb", Options::n2fb()),
     ];
