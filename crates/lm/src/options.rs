@@ -75,8 +75,9 @@ pub struct Options {
     /// second-order term it misses (Brown and Dennis: 150 iterations without it, 71 with the
     /// defaults, 21 with [`Options::n2fb`]). See the crate docs for the measurements.
     pub secant_scaling: bool,
-    /// Secant updates per parameter before `S` enters the scaling (default 2: from the
-    /// `2p + 2`-th iteration on, `p` parameters; 0 is N2FB's rule, from the second iteration).
+    /// Secant updates per parameter before `S` enters the scaling (default 2: from iteration
+    /// `2p + 1` on, `p` parameters, as each iteration after the first updates `S` once; 0 is
+    /// N2FB's rule, from the second iteration).
     /// With no delay the searches' short descents (AED: 10 iterations on subsamples) measured
     /// 8% slower; with the delay they are unchanged and long solves still get the secant term
     /// (crate docs, "Robustness").
