@@ -1,5 +1,6 @@
 //! Diagnostic: traces one MGH solve (every residual and Jacobian evaluation) with a chosen
-//! configuration. `cargo run -p bounded-lm --release --example mgh_one -- BrownDennis 1 [adaptive|classic]`
+//! configuration.
+//! `cargo run -p bounded-lm --release --example mgh_one -- BrownDennis 1 [adaptive|classic|no-secant|n2fb]`
 
 use bounded_lm::problems::mgh;
 use bounded_lm::{Options, Problem, RadiusUpdate, Solver, StepModel};
@@ -33,7 +34,9 @@ fn main() {
         match a.as_str() {
             "adaptive" => options.model = StepModel::Adaptive,
             "classic" => options.radius_update = RadiusUpdate::Classic,
-            _ => {}
+            "no-secant" => options.secant_scaling = false,
+            "n2fb" => options = Options::n2fb(),
+            other => panic!("unknown option {other} (adaptive, classic, no-secant, n2fb)"),
         }
     }
     for mut prob in mgh::all() {

@@ -1,5 +1,5 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
-//! radius rule) and writes the per-problem table to
+//! radius rule, without the secant term in the scaling, and N2FB's configuration) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
@@ -14,18 +14,36 @@ fn main() {
     let mut totals = Vec::new();
     let defaults = Options::default();
     let mut tables = String::new();
+    let with = |model, radius_update, secant_scaling| Options {
+        model,
+        radius_update,
+        secant_scaling,
+        ..Options::default()
+    };
     let configs = [
-        (StepModel::GaussNewton, defaults.radius_update),
-        (StepModel::Adaptive, defaults.radius_update),
-        (StepModel::GaussNewton, RadiusUpdate::Classic),
+        with(StepModel::GaussNewton, defaults.radius_update, true),
+        with(StepModel::Adaptive, defaults.radius_update, true),
+        with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
+        with(StepModel::GaussNewton, defaults.radius_update, false),
+        with(StepModel::Adaptive, defaults.radius_update, false),
+        Options::n2fb(),
     ];
-    for (model, radius_update) in configs {
-        let options = Options {
-            model,
-            radius_update,
-            ..Options::default()
-        };
-        let label = format!("{model:?}, {radius_update:?} radius");
+    for options in configs {
+        let (model, radius_update, secant_scaling) =
+            (options.model, options.radius_update, options.secant_scaling);
+        let label = format!(
+            "{model:?}, {radius_update:?} radius, {}",
+            if !secant_scaling {
+                "no secant scaling".to_string()
+            } else if options.secant_scaling_delay == 0 {
+                "secant scaling at once (N2FB)".to_string()
+            } else {
+                format!(
+                    "secant scaling after {} updates per parameter",
+                    options.secant_scaling_delay
+                )
+            }
+        );
         let runs = nist::run_all(&options);
         let correct = runs.iter().filter(|r| r.correct()).count();
         let wrong_success = runs
@@ -44,7 +62,7 @@ fn main() {
         let _ = writeln!(
             tables,
             "\n## {label}{}\n",
-            if model == defaults.model && radius_update == defaults.radius_update {
+            if options == defaults {
                 " (default)"
             } else {
                 ""

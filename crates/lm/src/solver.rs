@@ -147,6 +147,8 @@ struct Workspace {
     step_good: Vec<f64>,
     /// Last Levenberg-Marquardt parameter, a warm start for the next subproblem.
     lambda: f64,
+    /// Secant updates of `S` so far in this solve.
+    secant_updates: usize,
 }
 
 /// What a step computation produced.
@@ -281,17 +283,24 @@ impl Workspace {
         self.dead.resize(p, false);
         self.free.resize(p, 0);
         self.lambda = 0.0;
+        self.secant_updates = 0;
     }
 
     /// Updates the scaling: `D_i = max(0.6 D_i, ||J_i||_2)` (N2FB's adaptive rule, but with the
     /// column 2-norm of the original NL2SOL instead of the column max); a column whose norm is
     /// below 1e-6 uses 1 instead, so a dead parameter keeps a sane scale. Measured on NIST (GN
     /// model, default budgets): this rule 50/54, column max 44/54, non-decreasing 2-norm
-    /// (MINPACK) 49/54.
-    fn update_scaling(&mut self, first: bool) {
-        let m = self.m;
-        for j in 0..self.p {
-            let cn = norm(&self.jac[j * m..(j + 1) * m]);
+    /// (MINPACK) 49/54. With `secant` (once `S` has had the delay's updates), `||J_i||_2`
+    /// becomes `sqrt(||J_i||^2 + S_ii)` where `S_ii > 0` (NL2SOL's DUPDAT: the diagonal of the
+    /// augmented Hessian `J^T J + S`).
+    fn update_scaling(&mut self, first: bool, secant: bool) {
+        let (m, p) = (self.m, self.p);
+        for j in 0..p {
+            let mut cn = norm(&self.jac[j * m..(j + 1) * m]);
+            let sii = self.s_mat[j * p + j];
+            if secant && sii > 0.0 {
+                cn = (cn * cn + sii).sqrt();
+            }
             let cand = if cn < 1e-6 { 1.0 } else { cn };
             self.d[j] = if first {
                 cand
@@ -812,9 +821,21 @@ impl Workspace {
         self.r[..m].copy_from_slice(&self.r_prev[..m]);
     }
 
+    /// The secant update after an accepted step from `g` (new gradient), `g_prev` and
+    /// `ysharp` holding `J_old^T r_new`: `y = g_new - g_old`, `y# = J_new^T r_new - J_old^T
+    /// r_new`.
+    fn secant_update_from_gradients(&mut self) {
+        for i in 0..self.p {
+            self.y[i] = self.g[i] - self.g_prev[i];
+            self.ysharp[i] = self.g[i] - self.ysharp[i];
+        }
+        self.secant_update();
+    }
+
     /// NL2SOL's secant update of `S` after an accepted step (`step` = s, `y` = gradient change,
     /// `ysharp` = `(J_new - J_old)^T r_new`), with Dennis-Gay-Welsch sizing.
     fn secant_update(&mut self) {
+        self.secant_updates += 1;
         let p = self.p;
         sym_mat_vec(&self.s_mat, &self.step, p, &mut self.secant_w);
         let sss = dot(&self.step[..p], &self.secant_w[..p]);
@@ -1624,7 +1645,10 @@ impl<'o> Descent<'o> {
         if problem.should_stop() {
             return Ok(Some(Outcome::Interrupted));
         }
-        if self.have_prev_jacobian && self.model.adaptive {
+        // S is kept by the secant update for the augmented model and for the scaling.
+        let secant_scaling = self.opt.secant_scaling;
+        let keep_secant = self.have_prev_jacobian && (self.model.adaptive || secant_scaling);
+        if keep_secant {
             // (J_old)^T r_new for y# before J is overwritten.
             jt_vec(&ws.jac, &ws.r, m, p, &mut ws.ysharp);
         }
@@ -1649,7 +1673,17 @@ impl<'o> Descent<'o> {
             return Ok(None);
         }
         self.counts.iterations += 1;
-        ws.update_scaling(self.counts.iterations == 1);
+        if keep_secant && secant_scaling {
+            // The scaling needs the updated S, so S is updated before the factorization, from
+            // g = J^T r computed directly (as in NL2SOL, where DUPDAT follows the secant update).
+            jt_vec(&ws.jac, &ws.r, m, p, &mut ws.g);
+            ws.secant_update_from_gradients();
+        }
+        // The secant term enters the scaling once S has had `secant_scaling_delay` updates per
+        // parameter (Options::secant_scaling_delay).
+        let secant_in_scaling =
+            secant_scaling && ws.secant_updates >= self.opt.secant_scaling_delay.saturating_mul(p);
+        ws.update_scaling(self.counts.iterations == 1, secant_in_scaling);
         if self.counts.iterations == 1 {
             // Optionally (Options::lift_round_off_radius), a first step that is a round-off
             // change of x is lifted to sqrt(eps) relative to x in the scaled norm.
@@ -1660,13 +1694,10 @@ impl<'o> Descent<'o> {
         }
         ws.factor_jacobian();
         self.radius.start_iteration(ws);
-        if self.have_prev_jacobian && self.model.adaptive {
-            // y = g_new - g_old, y# = J_new^T r_new - J_old^T r_new.
-            for i in 0..p {
-                ws.y[i] = ws.g[i] - ws.g_prev[i];
-                ws.ysharp[i] = ws.g[i] - ws.ysharp[i];
-            }
-            ws.secant_update();
+        if keep_secant && !secant_scaling {
+            // Without the secant term in the scaling, S is updated after the factorization from
+            // the gradient it gives (the order with which the Adaptive results were measured).
+            ws.secant_update_from_gradients();
         }
         self.have_prev_jacobian = true;
         self.need_jacobian = false;

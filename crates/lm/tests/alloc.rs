@@ -52,9 +52,17 @@ fn repeated_solves_do_not_allocate() {
     let lower = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let upper = [10.0; 6];
     let mut solver = Solver::new();
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
+    for (model, secant_scaling, secant_scaling_delay) in [
+        (StepModel::GaussNewton, false, 2),
+        (StepModel::Adaptive, false, 2),
+        (StepModel::GaussNewton, true, 2),
+        (StepModel::Adaptive, true, 0),
+        (StepModel::GaussNewton, true, 0),
+    ] {
         let options = Options {
             model,
+            secant_scaling,
+            secant_scaling_delay,
             ..Options::default()
         };
         let start = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];
@@ -71,14 +79,20 @@ fn repeated_solves_do_not_allocate() {
                     .unwrap()
             });
             assert!(rep.iterations > 1);
-            assert_eq!(n, 0, "same-size solve allocated ({model:?})");
+            assert_eq!(
+                n, 0,
+                "same-size solve allocated ({model:?}, secant scaling {secant_scaling})"
+            );
             let mut x = [1.0, 0.3, 1.0, 1.5];
             let (_, n) = counted(|| {
                 solver
                     .solve(&mut small, &mut x, &lower[..4], &upper[..4], &options)
                     .unwrap()
             });
-            assert_eq!(n, 0, "smaller solve allocated ({model:?})");
+            assert_eq!(
+                n, 0,
+                "smaller solve allocated ({model:?}, secant scaling {secant_scaling})"
+            );
         }
     }
     // A tall problem takes the blocked QR (`tall_qr`); after it, the smaller ones above take the

@@ -66,18 +66,33 @@ fn line(out: &mut String, label: &str, r: &Report) {
 fn current() -> String {
     let mut out = String::new();
     let mut solver = Solver::new();
+    let with = |model, radius_update, secant_scaling| Options {
+        model,
+        radius_update,
+        secant_scaling,
+        ..Options::default()
+    };
     let configs = [
-        ("gn", StepModel::GaussNewton, RadiusUpdate::Nl2sol),
-        ("adaptive", StepModel::Adaptive, RadiusUpdate::Nl2sol),
-        ("classic", StepModel::GaussNewton, RadiusUpdate::Classic),
+        (
+            "gn",
+            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, true),
+        ),
+        (
+            "adaptive",
+            with(StepModel::Adaptive, RadiusUpdate::Nl2sol, true),
+        ),
+        (
+            "classic",
+            with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
+        ),
+        (
+            "gn-nosecant",
+            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, false),
+        ),
+        ("n2fb", Options::n2fb()),
     ];
     let data: Vec<NistData> = NAMES.iter().map(|n| load(n)).collect();
-    for (tag, model, radius_update) in configs {
-        let options = Options {
-            model,
-            radius_update,
-            ..Options::default()
-        };
+    for (tag, options) in configs {
         for d in &data {
             let p = d.certified.len();
             for s in 0..2 {

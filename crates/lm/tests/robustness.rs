@@ -279,8 +279,9 @@ fn fewer_residuals_than_parameters_reach_a_zero_residual() {
     }
 }
 
-/// MGH, unbounded and boxed, from x0 and 10 x0: never a success code on a wrong answer, every
-/// boxed case solved or an honest failure code, and at least the measured count solved.
+/// MGH, unbounded and boxed, from x0 and 10 x0, default options: never a success code on a
+/// wrong answer, every boxed case solved or an honest failure code, and at least the measured
+/// count solved (70 of 78 unbounded; 66 before the secant term entered the scaling).
 #[test]
 fn mgh_collection() {
     let runs = mgh_run::run_all(&Options::default());
@@ -296,5 +297,68 @@ fn mgh_collection() {
         .iter()
         .filter(|r| r.bound.is_none() && r.solved)
         .count();
-    assert!(solved >= 66, "{summary}\n{table}");
+    assert!(solved >= 70, "{summary}\n{table}");
+}
+
+/// MGH's Brown and Dennis function (n = 4, m = 20; f* = 0.5 * 85822.2 = 42911.1) is a large
+/// residual problem whose Gauss-Newton diagonal misses most of the curvature in x3 and x4: with
+/// the Jacobian column norms as the scaling the trust region lets the steps zigzag in x3, x4
+/// while x1, x2 creep (150 iterations, the limit, without the secant scaling). N2FB's scaling,
+/// with the diagonal of the secant term S, fixes the creep: with N2FB's configuration
+/// ([`Options::n2fb`]) both starts take at most 30 iterations (measured 21 and 24), and the
+/// defaults (Gauss-Newton model, secant scaling after 2p updates) reach the minimum within the
+/// default budgets (measured 71 and 81 iterations).
+#[test]
+fn secant_scaling_solves_brown_and_dennis() {
+    let f_star = 42_911.100_8;
+    for factor in [1.0, 10.0] {
+        let mut p = Mgh::new(Kind::BrownDennis, 4, 20);
+        let mut x = p.start(factor);
+        let rep = Solver::new()
+            .solve(&mut p, &mut x, &[-INF; 4], &[INF; 4], &Options::n2fb())
+            .unwrap();
+        assert!(rep.outcome.is_success(), "{factor} x0: {rep:?}");
+        assert!(rep.iterations <= 30, "{factor} x0: {rep:?}");
+        assert!(
+            (rep.f - f_star).abs() <= 1e-6 * f_star,
+            "{factor} x0: {rep:?}"
+        );
+
+        let mut x = p.start(factor);
+        let rep = Solver::new()
+            .solve(&mut p, &mut x, &[-INF; 4], &[INF; 4], &Options::default())
+            .unwrap();
+        assert!(rep.outcome.is_success(), "{factor} x0: {rep:?}");
+        assert!(
+            (rep.f - f_star).abs() <= 1e-6 * f_star,
+            "{factor} x0: {rep:?}"
+        );
+    }
+}
+
+/// MGH without the secant term in the scaling (the previous default) and with N2FB's
+/// configuration: at least 66 and 69 of the 78 unbounded runs solved, never with a success code
+/// on a wrong unbounded answer (the defaults are checked by `mgh_collection`).
+#[test]
+fn mgh_collection_other_scalings() {
+    let no_secant = Options {
+        secant_scaling: false,
+        ..Options::default()
+    };
+    for (name, options, at_least) in [("no secant", no_secant, 66), ("n2fb", Options::n2fb(), 69)] {
+        let runs = mgh_run::run_all(&options);
+        let summary = mgh_run::summary(&runs);
+        let table = mgh_run::table(&runs);
+        for r in runs.iter().filter(|r| r.bound.is_none()) {
+            assert!(
+                !r.wrong_success(),
+                "{name}: success code on a wrong answer: {r:?}\n{table}"
+            );
+        }
+        let solved = runs
+            .iter()
+            .filter(|r| r.bound.is_none() && r.solved)
+            .count();
+        assert!(solved >= at_least, "{name}: {summary}\n{table}");
+    }
 }

@@ -5,10 +5,12 @@
 //! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
-//!     [--adaptive]
+//!     [--adaptive] [--no-secant-scaling] [--secant-delay 2]
 //! ```
 //! `--adaptive` runs the descents with NL2SOL's adaptive model choice (N2FB's) instead of the
-//! Gauss-Newton model. `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
+//! Gauss-Newton model; `--no-secant-scaling` leaves the secant term out of the scaling and
+//! `--secant-delay K` sets after how many secant updates per parameter it enters
+//! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -39,6 +41,8 @@ struct Args {
     sigma: f64,
     early_exit: bool,
     adaptive: bool,
+    secant_scaling: bool,
+    secant_delay: usize,
 }
 
 fn parse() -> Result<Args, String> {
@@ -57,6 +61,8 @@ fn parse() -> Result<Args, String> {
         sigma: 0.1,
         early_exit: true,
         adaptive: false,
+        secant_scaling: bounded_lm::Options::default().secant_scaling,
+        secant_delay: bounded_lm::Options::default().secant_scaling_delay,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -72,6 +78,10 @@ fn parse() -> Result<Args, String> {
             a.adaptive = true;
             continue;
         }
+        if flag == "--no-secant-scaling" {
+            a.secant_scaling = false;
+            continue;
+        }
         if flag == "--no-early-exit" {
             a.early_exit = false;
             continue;
@@ -84,6 +94,7 @@ fn parse() -> Result<Args, String> {
         let bad = |e: &dyn std::fmt::Display| format!("{flag} {value}: {e}");
         match flag.as_str() {
             "--seeds" => a.seeds = value.parse().map_err(|e| bad(&e))?,
+            "--secant-delay" => a.secant_delay = value.parse().map_err(|e| bad(&e))?,
             "--cutoff" => a.cutoff = value.parse().map_err(|e| bad(&e))?,
             "--instance-seed" => a.instance_seed = value.parse().map_err(|e| bad(&e))?,
             "--target" => a.target = value.parse().map_err(|e| bad(&e))?,
@@ -250,6 +261,7 @@ fn main() {
                 if args.adaptive {
                     ctx.set_step_model(bounded_lm::StepModel::Adaptive);
                 }
+                ctx.set_secant_scaling(args.secant_scaling, args.secant_delay);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;
