@@ -35,7 +35,11 @@ def _interrupt(code: str, tmp_path, delay: float):
     """Runs `code`, which prints a line when its long call starts; sends SIGINT `delay`
     seconds after that line; returns (stdout, stderr, seconds from SIGINT to exit)."""
     script = tmp_path / "long.py"
-    script.write_text(textwrap.dedent(code))
+    # A shell that starts a job in the background without job control (a CI runner, `cmd &`
+    # in a script) makes it ignore SIGINT, and Python then installs no KeyboardInterrupt
+    # handler: the child restores it, so the test does not depend on how it was launched.
+    restore = "import signal\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
+    script.write_text(restore + textwrap.dedent(code))
     p = subprocess.Popen([sys.executable, str(script)], cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     first = p.stdout.readline()
     assert first.strip() == "started", (first, p.stderr.read() if p.poll() is not None else "")
