@@ -14,13 +14,17 @@ fn main() {
     let mut totals = Vec::new();
     let defaults = Options::default();
     let mut tables = String::new();
+    // The adaptive rows switch models from the first secant update (N2FB's rule); the default
+    // (first row) only after `adaptive_delay` updates per parameter.
     let with = |model, radius_update, secant_scaling| Options {
         model,
         radius_update,
         secant_scaling,
+        adaptive_delay: 0,
         ..Options::default()
     };
     let configs = [
+        Options::default(),
         with(StepModel::GaussNewton, defaults.radius_update, true),
         with(StepModel::Adaptive, defaults.radius_update, true),
         with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
@@ -31,8 +35,13 @@ fn main() {
     for options in configs {
         let (model, radius_update, secant_scaling) =
             (options.model, options.radius_update, options.secant_scaling);
+        let switch = if model == StepModel::Adaptive && options.adaptive_delay > 0 {
+            format!(" from {} updates per parameter", options.adaptive_delay)
+        } else {
+            String::new()
+        };
         let label = format!(
-            "{model:?}, {radius_update:?} radius, {}",
+            "{model:?}{switch}, {radius_update:?} radius, {}",
             if !secant_scaling {
                 "no secant scaling".to_string()
             } else if options.secant_scaling_delay == 0 {

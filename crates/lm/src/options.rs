@@ -82,10 +82,17 @@ pub struct Options {
     /// 8% slower; with the delay they are unchanged and long solves still get the secant term
     /// (crate docs, "Robustness").
     pub secant_scaling_delay: usize,
+    /// Secant updates per parameter before the adaptive model choice ([`StepModel::Adaptive`])
+    /// may switch to the augmented model (default 2: from iteration `2p + 1` on; 0 is N2FB's
+    /// rule). Until then the solve is exactly a Gauss-Newton one (with its longer-step
+    /// retries), so short descents (AED: 10 iterations on subsamples) are unchanged, while long
+    /// solves of large-residual problems get the augmented model (Brown and Dennis: 71
+    /// iterations with the Gauss-Newton model, 23 with this default; crate docs, "Robustness").
+    pub adaptive_delay: usize,
     /// Trust-radius rule (default [`RadiusUpdate::Nl2sol`], N2FB's; see the crate docs).
     pub radius_update: RadiusUpdate,
-    /// Quadratic model (default [`StepModel::GaussNewton`]; [`StepModel::Adaptive`], N2FB's,
-    /// is as good on NIST and better on MGH and large-residual problems: see the crate docs).
+    /// Quadratic model (default [`StepModel::Adaptive`] after [`Options::adaptive_delay`];
+    /// [`StepModel::GaussNewton`] never uses the augmented model: see the crate docs).
     pub model: StepModel,
 }
 
@@ -104,6 +111,7 @@ impl Default for Options {
             lift_round_off_radius: false,
             secant_scaling: true,
             secant_scaling_delay: 2,
+            adaptive_delay: 2,
             radius_update: RadiusUpdate::Nl2sol,
             model: crate::DEFAULT_MODEL,
         }
@@ -119,6 +127,7 @@ impl Options {
             model: StepModel::Adaptive,
             secant_scaling: true,
             secant_scaling_delay: 0,
+            adaptive_delay: 0,
             ..Self::default()
         }
     }

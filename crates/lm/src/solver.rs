@@ -159,6 +159,10 @@ struct StepInfo {
     /// Predicted reduction of the full Gauss-Newton (Newton) step on the first free set
     /// (NREDUC), or negative when that step does not exist (singular model).
     nreduc: f64,
+    /// Predicted reduction of the Newton step of the model in use on the first free set (N2FB's
+    /// NREDUC: the augmented model's when it is in use, else equal to `nreduc`), negative when
+    /// that step does not exist.
+    model_nreduc: f64,
     /// Scaled length of the first pass's Newton step (NL2SOL's DST0), negative when it does not
     /// exist.
     newton_norm: f64,
@@ -177,6 +181,7 @@ impl StepInfo {
     const NONE: StepInfo = StepInfo {
         preduc: 0.0,
         nreduc: -1.0,
+        model_nreduc: -1.0,
         newton_norm: -1.0,
         newton: false,
         dnorm: 0.0,
@@ -653,6 +658,7 @@ impl Workspace {
                 } else {
                     tr.newton_reduction
                 };
+                info.model_nreduc = tr.newton_reduction;
                 info.newton_norm = tr.newton_norm;
             }
             // N2FB's STPPAR: whether the last sub-step solved is the Newton step (lambda = 0).
@@ -698,6 +704,7 @@ impl Workspace {
         if dead_free {
             info.dead_free = true;
             info.nreduc = -1.0;
+            info.model_nreduc = -1.0;
             info.newton_norm = -1.0;
             info.newton = false;
         }
@@ -1428,6 +1435,9 @@ struct Good {
 #[derive(Clone, Copy, Debug)]
 struct ModelChoice {
     adaptive: bool,
+    /// The adaptive choice may switch models in this iteration (`adaptive` and S has had
+    /// [`Options::adaptive_delay`] updates per parameter).
+    switching: bool,
     augmented: bool,
     /// A failed step was already retried with the other model in this iteration.
     switched_this_iteration: bool,
@@ -1603,6 +1613,7 @@ impl<'o> Descent<'o> {
             },
             model: ModelChoice {
                 adaptive: opt.model == StepModel::Adaptive,
+                switching: opt.model == StepModel::Adaptive && opt.adaptive_delay == 0,
                 augmented: false,
                 switched_this_iteration: false,
             },
@@ -1684,6 +1695,8 @@ impl<'o> Descent<'o> {
         let secant_in_scaling =
             secant_scaling && ws.secant_updates >= self.opt.secant_scaling_delay.saturating_mul(p);
         ws.update_scaling(self.counts.iterations == 1, secant_in_scaling);
+        self.model.switching =
+            self.model.adaptive && ws.secant_updates >= self.opt.adaptive_delay.saturating_mul(p);
         if self.counts.iterations == 1 {
             // Optionally (Options::lift_round_off_radius), a first step that is a round-off
             // change of x is lifted to sqrt(eps) relative to x in the scaled norm.
@@ -1813,7 +1826,7 @@ impl<'o> Descent<'o> {
         let ratio = ared / trial.info.preduc;
         let accepted = ared > 0.0 && ratio > ACCEPT_RATIO;
         let mut switch_models = false;
-        if self.model.adaptive && !trial.restored && !(ared > 0.1 * trial.info.preduc) {
+        if self.model.switching && !trial.restored && !(ared > 0.1 * trial.info.preduc) {
             let augmented = self.model.augmented;
             // The augmented model predicts `pred_gn - 0.5 s^T S s` (this sign was reversed
             // before, so the adaptive solver never left the Gauss-Newton model).
@@ -1853,7 +1866,14 @@ impl<'o> Descent<'o> {
         let emaxs = opt.singular_tol * a.f0.abs();
         // The gate on the projected gradient (computed at x0 = ws.x, where NREDUC was) keeps a
         // broken NREDUC from claiming convergence; see `gradient_permits_rel_conv`.
-        let rel = ((info.nreduc > 0.0 && info.nreduc <= emax)
+        // N2FB judges by the NREDUC of the model in use. With the augmented model that counts
+        // only where the Gauss-Newton step exists too (J nonsingular on the free set), so an
+        // augmented model that merely predicts no decrease where J is singular cannot claim
+        // convergence; without it, a large-residual minimum approached by augmented Newton steps
+        // (whose Gauss-Newton NREDUC shrinks only linearly) ended in singular convergence.
+        let within = |reduction: f64| reduction > 0.0 && reduction <= emax;
+        let rel = (within(info.nreduc)
+            || (info.nreduc >= 0.0 && within(info.model_nreduc))
             || (info.nreduc == 0.0 && info.preduc == 0.0))
             && ws.gradient_permits_rel_conv(opt.rel_function_tol);
         // A restored step is not the last one computed (NL2SOL's GOODX = false).
@@ -1936,7 +1956,7 @@ fn iterate<P: Problem>(
         let gts = dot(&ws.g[..ws.p], &ws.step[..ws.p]);
         let change = descent
             .radius
-            .after_step(&trial, &assessment, gts, descent.model.adaptive);
+            .after_step(&trial, &assessment, gts, descent.model.switching);
         let converged = descent.convergence_test(ws, &trial, &assessment);
         if change.try_longer && converged.is_none() {
             descent.keep_good(ws, &trial);

@@ -79,7 +79,10 @@ fn current() -> String {
         ),
         (
             "adaptive",
-            with(StepModel::Adaptive, RadiusUpdate::Nl2sol, true),
+            Options {
+                adaptive_delay: 0,
+                ..with(StepModel::Adaptive, RadiusUpdate::Nl2sol, true)
+            },
         ),
         (
             "classic",
@@ -90,6 +93,7 @@ fn current() -> String {
             with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, false),
         ),
         ("n2fb", Options::n2fb()),
+        ("default", Options::default()),
     ];
     let data: Vec<NistData> = NAMES.iter().map(|n| load(n)).collect();
     for (tag, options) in configs {

@@ -42,18 +42,26 @@ fn check(options: &Options, required: usize, forbid_wrong_success: bool) {
     );
 }
 
-/// The default model and radius rule: at least 52/54 with LRE >= 4 (PORT N2FB: 46/54), and a
-/// success code (3..=6) is never returned on a wrong answer; the same without the secant term
-/// in the scaling (the previous default).
+/// The defaults (the adaptive model switching after 2 secant updates per parameter, N2FB's
+/// radius rule, the secant term in the scaling): at least 52/54 with LRE >= 4 (PORT N2FB:
+/// 46/54), and a success code (3..=6) is never returned on a wrong answer; the same with the
+/// Gauss-Newton model (the default before 2026-12-02), with and without the secant scaling.
 #[test]
-fn nist_gauss_newton() {
-    assert_eq!(Options::default().model, StepModel::GaussNewton);
-    assert_eq!(Options::default().radius_update, RadiusUpdate::Nl2sol);
-    assert!(Options::default().secant_scaling);
-    check(&Options::default(), 52, true);
+fn nist_defaults_and_gauss_newton() {
+    let defaults = Options::default();
+    assert_eq!(defaults.model, StepModel::Adaptive);
+    assert_eq!(defaults.adaptive_delay, 2);
+    assert_eq!(defaults.radius_update, RadiusUpdate::Nl2sol);
+    assert!(defaults.secant_scaling);
+    check(&defaults, 52, true);
+    let gauss_newton = Options {
+        model: StepModel::GaussNewton,
+        ..Options::default()
+    };
+    check(&gauss_newton, 52, true);
     let no_secant = Options {
         secant_scaling: false,
-        ..Options::default()
+        ..gauss_newton
     };
     check(&no_secant, 52, true);
 }
@@ -66,6 +74,7 @@ fn nist_gauss_newton() {
 fn nist_adaptive() {
     let adaptive = Options {
         model: StepModel::Adaptive,
+        adaptive_delay: 0,
         secant_scaling: false,
         ..Options::default()
     };
@@ -73,11 +82,12 @@ fn nist_adaptive() {
     check(&Options::n2fb(), 51, true);
 }
 
-/// The ratio-based radius rule of the first version ([`RadiusUpdate::Classic`]), without the
-/// secant scaling: 50/54.
+/// The ratio-based radius rule of the first version ([`RadiusUpdate::Classic`]) with the
+/// Gauss-Newton model, without the secant scaling: 50/54.
 #[test]
 fn nist_classic_radius() {
     let options = Options {
+        model: StepModel::GaussNewton,
         radius_update: RadiusUpdate::Classic,
         secant_scaling: false,
         ..Options::default()

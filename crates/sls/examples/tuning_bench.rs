@@ -5,10 +5,12 @@
 //! cargo run --release -p sls --example tuning_bench -- [--seeds 100] [--cutoff 10]
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
-//!     [--adaptive] [--no-secant-scaling] [--secant-delay 2]
+//!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
 //! ```
-//! `--adaptive` runs the descents with NL2SOL's adaptive model choice (N2FB's) instead of the
-//! Gauss-Newton model; `--no-secant-scaling` leaves the secant term out of the scaling and
+//! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
+//! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
+//! default 2; 0 is N2FB's rule); `--gauss-newton` never uses the augmented model (the default
+//! before 2026-12-02); `--no-secant-scaling` leaves the secant term out of the scaling and
 //! `--secant-delay K` sets after how many secant updates per parameter it enters
 //! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
@@ -40,9 +42,10 @@ struct Args {
     instance: String,
     sigma: f64,
     early_exit: bool,
-    adaptive: bool,
+    gauss_newton: bool,
     secant_scaling: bool,
     secant_delay: usize,
+    adaptive_delay: usize,
 }
 
 fn parse() -> Result<Args, String> {
@@ -60,9 +63,10 @@ fn parse() -> Result<Args, String> {
         instance: "tuning".into(),
         sigma: 0.1,
         early_exit: true,
-        adaptive: false,
+        gauss_newton: false,
         secant_scaling: bounded_lm::Options::default().secant_scaling,
         secant_delay: bounded_lm::Options::default().secant_scaling_delay,
+        adaptive_delay: bounded_lm::Options::default().adaptive_delay,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -74,8 +78,8 @@ fn parse() -> Result<Args, String> {
             a.overshoot = true;
             continue;
         }
-        if flag == "--adaptive" {
-            a.adaptive = true;
+        if flag == "--gauss-newton" {
+            a.gauss_newton = true;
             continue;
         }
         if flag == "--no-secant-scaling" {
@@ -95,6 +99,7 @@ fn parse() -> Result<Args, String> {
         match flag.as_str() {
             "--seeds" => a.seeds = value.parse().map_err(|e| bad(&e))?,
             "--secant-delay" => a.secant_delay = value.parse().map_err(|e| bad(&e))?,
+            "--adaptive-delay" => a.adaptive_delay = value.parse().map_err(|e| bad(&e))?,
             "--cutoff" => a.cutoff = value.parse().map_err(|e| bad(&e))?,
             "--instance-seed" => a.instance_seed = value.parse().map_err(|e| bad(&e))?,
             "--target" => a.target = value.parse().map_err(|e| bad(&e))?,
@@ -258,10 +263,11 @@ fn main() {
             for seed in 1..=args.seeds {
                 let mut ctx = TrialContext::new(&objective, seed, budget, args.target);
                 ctx.set_early_exit(args.early_exit);
-                if args.adaptive {
-                    ctx.set_step_model(bounded_lm::StepModel::Adaptive);
+                if args.gauss_newton {
+                    ctx.set_step_model(bounded_lm::StepModel::GaussNewton);
                 }
                 ctx.set_secant_scaling(args.secant_scaling, args.secant_delay);
+                ctx.set_adaptive_delay(args.adaptive_delay);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

@@ -171,11 +171,7 @@ pub fn mgh_cases() -> (Vec<CaseResult>, String) {
         .flat_map_iter(|mut prob| {
             let n = prob.parameter_count();
             let free = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
-            let big = Options {
-                max_iterations: 5000,
-                max_evaluations: 5000,
-                ..Options::default()
-            };
+            let big = mgh::box_reference_options();
             let mut solver = Solver::new();
             let mut x_star = prob.start(1.0);
             let _ = solver.solve(&mut prob, &mut x_star, &free.0, &free.1, &big);

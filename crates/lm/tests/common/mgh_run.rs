@@ -65,11 +65,7 @@ pub fn run_all(options: &Options) -> Vec<MghRun> {
         let n = prob.parameter_count();
         let free = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
         // The minimiser that defines the box.
-        let big = Options {
-            max_iterations: 5000,
-            max_evaluations: 5000,
-            ..Options::default()
-        };
+        let big = mgh::box_reference_options();
         let mut x_star = prob.start(1.0);
         let _ = solver.solve(&mut prob, &mut x_star, &free.0, &free.1, &big);
         let bounds = prob.cutting_box(&x_star);
