@@ -105,7 +105,13 @@ pub fn export_ioh(
                 .unwrap_or(0);
             let dat_rel = format!("data_f{fid}_{islug}/IOHprofiler_f{fid}_DIM{dim}.dat");
             let dat = dat_text(&runs);
-            let algorithm_info = serde_json::to_string(&cfg.algorithm).unwrap_or_default();
+            let mut info = serde_json::to_value(&cfg.algorithm).unwrap_or_default();
+            if cfg.descent != sls::DescentModel::Default
+                && let Some(map) = info.as_object_mut()
+            {
+                map.insert("descent".into(), serde_json::json!(cfg.descent));
+            }
+            let algorithm_info = info.to_string();
             let meta = meta_json(
                 spec,
                 inst,

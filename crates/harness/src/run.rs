@@ -47,7 +47,7 @@ pub struct Provenance {
 /// The real executor: sls algorithms on brdf-model objectives built once per instance.
 pub struct SlsExecutor {
     objectives: Vec<BrdfObjective>,
-    configs: Vec<AlgorithmConfig>,
+    configs: Vec<(AlgorithmConfig, sls::DescentModel)>,
     provenance: Provenance,
     interrupt: Option<Arc<AtomicBool>>,
 }
@@ -85,7 +85,7 @@ impl SlsExecutor {
                 configs: spec
                     .configurations
                     .iter()
-                    .map(|c| c.algorithm.clone())
+                    .map(|c| (c.algorithm.clone(), c.descent))
                     .collect(),
                 provenance,
                 interrupt: None,
@@ -110,13 +110,18 @@ impl Executor for SlsExecutor {
     }
 
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
-        sls::run_trial_interruptible(
+        let (algorithm, descent) = &self.configs[trial.config];
+        let settings = sls::TrialSettings {
+            interrupt: self.interrupt.clone(),
+            descent: *descent,
+        };
+        sls::run_trial_with(
             &self.objectives[trial.instance],
-            &self.configs[trial.config],
+            algorithm,
             trial.seed,
             budget,
             target,
-            self.interrupt.clone(),
+            &settings,
         )
     }
 }

@@ -5,7 +5,7 @@
 use crate::objective::{Objective, Rows};
 use crate::search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 use crate::trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
-use crate::{AlgorithmConfig, SearchRng};
+use crate::{AlgorithmConfig, DescentModel, SearchRng};
 use bounded_lm::{Options, Problem, SolveError, Solver};
 use cpu_time::ThreadTime;
 use rand::SeedableRng;
@@ -283,6 +283,12 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     pub fn set_secant_scaling(&mut self, on: bool, delay: usize) {
         self.options.secant_scaling = on;
         self.options.secant_scaling_delay = delay;
+    }
+
+    /// The descents' solver configuration ([`DescentModel`]; replaces the step model and the
+    /// secant settings, keeps the budgets the searches set per descent).
+    pub fn set_descent_model(&mut self, descent: DescentModel) {
+        self.options = descent.options();
     }
 
     /// Secant updates per parameter before the descents' adaptive model choice may switch
@@ -566,10 +572,36 @@ pub fn run_trial_interruptible<O: Objective>(
     target: f64,
     interrupt: Option<Arc<AtomicBool>>,
 ) -> TrialResult {
+    let settings = TrialSettings {
+        interrupt,
+        ..TrialSettings::default()
+    };
+    run_trial_with(objective, algorithm, seed, budget, target, &settings)
+}
+
+/// How a trial runs beyond its algorithm, seed, budget and target.
+#[derive(Clone, Debug, Default)]
+pub struct TrialSettings {
+    /// Stops the trial with [`StopReason::Interrupted`] once raised.
+    pub interrupt: Option<Arc<AtomicBool>>,
+    /// The descents' solver configuration.
+    pub descent: DescentModel,
+}
+
+/// [`run_trial`] with [`TrialSettings`].
+pub fn run_trial_with<O: Objective>(
+    objective: &O,
+    algorithm: &AlgorithmConfig,
+    seed: u64,
+    budget: Budget,
+    target: f64,
+    settings: &TrialSettings,
+) -> TrialResult {
     let mut context = TrialContext::new(objective, seed, budget, target);
-    if let Some(flag) = interrupt {
-        context.set_interrupt(flag);
+    if let Some(flag) = &settings.interrupt {
+        context.set_interrupt(flag.clone());
     }
+    context.set_descent_model(settings.descent);
     if algorithm.validate().is_err() {
         context.count("invalid_config");
         return context.finish(Ok(()));

@@ -38,6 +38,7 @@ pub mod algorithms;
 mod brdf;
 mod config;
 mod context;
+mod descent_model;
 mod objective;
 mod search;
 pub mod trial;
@@ -49,7 +50,10 @@ pub use algorithms::{
 };
 pub use brdf::{BrdfObjective, BrdfWorkspace, StartDist};
 pub use config::AlgorithmConfig;
-pub use context::{TrialContext, run_trial, run_trial_interruptible};
+pub use context::{
+    TrialContext, TrialSettings, run_trial, run_trial_interruptible, run_trial_with,
+};
+pub use descent_model::DescentModel;
 pub use objective::{Objective, Rows};
 pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};

@@ -98,3 +98,42 @@ fn configurations_deserialise_with_defaults_and_reject_unknown_fields() {
         assert!(config.validate().is_ok());
     }
 }
+
+/// The descent configuration reaches the trial: RPLS's full-data descents are long enough for
+/// N2FB's rule (augmented model and secant scaling from the first update) to take other steps
+/// than the default's, so the same seeds end with other evaluation counts; the same settings
+/// twice give the same trial.
+#[test]
+fn descent_model_changes_long_descents_reproducibly() {
+    let objective = tuning(500, 0.1, 2);
+    let config = AlgorithmConfig::Rpls(RplsConfig::default());
+    let budget = sls::Budget {
+        cpu_seconds: None,
+        sample_evaluations: Some(2_000_000),
+    };
+    let run = |seed, descent| {
+        let settings = sls::TrialSettings {
+            descent,
+            ..sls::TrialSettings::default()
+        };
+        sls::run_trial_with(&objective, &config, seed, budget, 0.0, &settings)
+    };
+    let total = |r: &sls::TrialResult| r.ended_at.evaluations.total_computed();
+    let mut differ = 0;
+    for seed in 1..=3 {
+        let default = run(seed, sls::DescentModel::Default);
+        let n2fb = run(seed, sls::DescentModel::N2fb);
+        assert_eq!(
+            default.best_rmse,
+            run(seed, sls::DescentModel::Default).best_rmse
+        );
+        assert_eq!(n2fb.best_rmse, run(seed, sls::DescentModel::N2fb).best_rmse);
+        if default.best_rmse != n2fb.best_rmse || total(&default) != total(&n2fb) {
+            differ += 1;
+        }
+    }
+    assert!(
+        differ > 0,
+        "N2FB's descents took the default's path on every seed"
+    );
+}

@@ -69,12 +69,17 @@ pub fn trial(a: TrialArgs) -> Result<()> {
         spec.kernel.resolve()?,
     )?
     .with_starts(instance.model.starts);
-    let r = sls::run_trial(
+    let settings = sls::TrialSettings {
+        descent: base.descent,
+        ..sls::TrialSettings::default()
+    };
+    let r = sls::run_trial_with(
         &objective,
         &config,
         a.seed,
         kind.budget(cutoff),
         kind.run_target(instance.run_target()),
+        &settings,
     );
     let cost = rule.cost(&r);
     if !cost.is_finite() {

@@ -77,7 +77,11 @@ impl Spec {
             let params = serde_json::to_value(&c.algorithm)
                 .map(|v| v.to_string())
                 .unwrap_or_default();
-            s.push_str(&format!("  {:<24} {params}\n", c.label));
+            let descent = match c.descent {
+                sls::DescentModel::Default => String::new(),
+                other => format!(" descent={other}"),
+            };
+            s.push_str(&format!("  {:<24} {params}{descent}\n", c.label));
         }
         let n = self.trials as u64 * self.instances.len() as u64 * self.configurations.len() as u64;
         s.push_str(&format!(

@@ -50,6 +50,8 @@
 //! label = "AED"                  # default: the kind in capitals
 //! kind = "aed"                   # aed | aers | rpls | ds | sa | sals | avg | asa (sls::AlgorithmConfig)
 //! phi = 1.4                      # any parameter of that algorithm; missing = paper default
+//! descent = "default"            # the descents' solver: default | gauss-newton | n2fb (the
+//!                                # paper's PORT N2FB configuration); not sweepable
 //! [algorithm.sweep]              # optional: one configuration per value (cartesian product)
 //! rho0 = [10, 25, 50]            # a list, or
 //! # phi = { from = 1.0, to = 2.0, steps = 5, scale = "linear" }   # linear | log; integer
@@ -362,6 +364,8 @@ pub struct Configuration {
     pub swept: Vec<(String, f64)>,
     /// The algorithm and all its parameters.
     pub algorithm: AlgorithmConfig,
+    /// The descents' solver configuration (the entry's `descent` key).
+    pub descent: sls::DescentModel,
 }
 
 /// Plot kinds.
@@ -850,6 +854,45 @@ kind = "rpls"
         assert_eq!(a.fingerprint(), b.fingerprint());
         assert_ne!(a.fingerprint(), c.fingerprint());
         assert_eq!(a.fingerprint(), d.fingerprint());
+    }
+
+    #[test]
+    fn descent_is_read_per_entry_and_fingerprinted_only_when_not_default() {
+        let plain = parse(MINI).unwrap();
+        assert!(
+            plain
+                .configurations
+                .iter()
+                .all(|c| c.descent == sls::DescentModel::Default)
+        );
+        let spelled =
+            parse(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"default\"")).unwrap();
+        assert_eq!(plain.fingerprint(), spelled.fingerprint());
+        let n2fb = parse(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"n2fb\"")).unwrap();
+        assert_ne!(plain.fingerprint(), n2fb.fingerprint());
+        // Every swept configuration of the entry gets it; the other entry keeps the default.
+        let descents: Vec<_> = n2fb.configurations.iter().map(|c| c.descent).collect();
+        use sls::DescentModel::{Default, N2fb};
+        assert_eq!(descents, [N2fb, N2fb, Default]);
+        assert!(
+            n2fb.describe(1).contains("descent=n2fb"),
+            "{}",
+            n2fb.describe(1)
+        );
+    }
+
+    #[test]
+    fn bad_descent_names_line_and_choices() {
+        let e = err(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"port\""));
+        assert!(
+            e.contains("t.toml:21:") && e.contains("`port`") && e.contains("`n2fb`"),
+            "{e}"
+        );
+        let e = err(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = 2"));
+        assert!(
+            e.contains("t.toml:21:") && e.contains("must be a string"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -21,7 +21,15 @@ impl Spec {
         let configs: Vec<serde_json::Value> = self
             .configurations
             .iter()
-            .map(|c| serde_json::json!({"label": c.label, "algorithm": c.algorithm}))
+            .map(|c| {
+                let mut v = serde_json::json!({"label": c.label, "algorithm": c.algorithm});
+                // Only a non-default descent enters, so the fingerprints of specs written
+                // before the key existed stay the same.
+                if c.descent != sls::DescentModel::Default {
+                    v["descent"] = serde_json::json!(c.descent);
+                }
+                v
+            })
             .collect();
         serde_json::json!({
             "seed": self.seed,

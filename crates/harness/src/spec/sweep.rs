@@ -91,6 +91,7 @@ fn entry_configurations(
     let kind = kind_of(cx, &table, lines)?;
     let label = label_of(cx, &mut table, &kind, lines)?;
     let sweep = sweep_of(cx, &mut table, &label, lines)?;
+    let descent = descent_of(cx, &mut table, &label, lines)?;
     // The base configuration must be valid by itself (swept keys may be absent).
     let base = algorithm_from_table(cx, &table, &label, &|k| lines.at(k))?;
     if sweep.is_empty() {
@@ -99,13 +100,49 @@ fn entry_configurations(
             algorithm_label: label,
             swept: Vec::new(),
             algorithm: base,
+            descent,
         }]);
     }
     let combos = cartesian(cx, &sweep, lines)?;
     combos
         .into_iter()
-        .map(|combo| swept_configuration(cx, &table, &label, combo, lines))
+        .map(|combo| {
+            let mut c = swept_configuration(cx, &table, &label, combo, lines)?;
+            c.descent = descent;
+            Ok(c)
+        })
         .collect()
+}
+
+/// The entry's `descent` key (the solver configuration of its descents), removed from the
+/// table because it is not an algorithm parameter.
+fn descent_of(
+    cx: &Ctx<'_>,
+    table: &mut toml::Table,
+    label: &str,
+    lines: &EntryLines,
+) -> Result<sls::DescentModel, SpecError> {
+    let names = || sls::DescentModel::ALL.map(|m| format!("`{m}`")).join(", ");
+    match table.remove("descent") {
+        None => Ok(sls::DescentModel::Default),
+        Some(toml::Value::String(name)) => sls::DescentModel::from_name(&name).ok_or_else(|| {
+            cx.invalid(
+                lines.at("descent"),
+                format!(
+                    "algorithm `{label}`: unknown `descent` `{name}` (expected one of {})",
+                    names()
+                ),
+            )
+        }),
+        Some(other) => Err(cx.invalid(
+            lines.at("descent"),
+            format!(
+                "algorithm `{label}`: `descent` must be a string (one of {}), found {}",
+                names(),
+                other.type_str()
+            ),
+        )),
+    }
 }
 
 fn kind_of(cx: &Ctx<'_>, table: &toml::Table, lines: &EntryLines) -> Result<String, SpecError> {
@@ -270,6 +307,7 @@ fn swept_configuration(
         algorithm_label: label.to_string(),
         swept,
         algorithm,
+        descent: sls::DescentModel::Default,
     })
 }
 

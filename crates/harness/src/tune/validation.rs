@@ -81,6 +81,12 @@ pub fn validation_spec(
         let mut t = toml::Table::new();
         t.insert("label".into(), toml::Value::String(label));
         t.extend(base_table(config)?);
+        if base.descent != sls::DescentModel::Default {
+            t.insert(
+                "descent".into(),
+                toml::Value::String(base.descent.to_string()),
+            );
+        }
         Ok(toml::Value::Table(t))
     };
     let mut algorithms = vec![entry(default_label(&tune.algorithm), &base.algorithm)?];
