@@ -57,6 +57,8 @@ pub struct FitRequest {
     pub target: f64,
     /// The evaluation kernel (`auto` picks the fastest this CPU runs).
     pub kernel: Kernel,
+    /// The descents' solver configuration.
+    pub descent: sls::DescentModel,
 }
 
 /// What one fit gives.
@@ -139,13 +141,17 @@ pub fn fit(
         cpu_seconds: Some(request.cpu_seconds),
         sample_evaluations: None,
     };
-    let result = sls::run_trial_interruptible(
+    let settings = sls::TrialSettings {
+        interrupt,
+        descent: request.descent,
+    };
+    let result = sls::run_trial_with(
         &objective,
         &request.algorithm,
         request.seed,
         budget,
         request.target,
-        interrupt,
+        &settings,
     );
     if result.stop == StopReason::Interrupted {
         return Err(FitError::Interrupted);
@@ -211,6 +217,7 @@ mod tests {
             cpu_seconds: 30.0,
             target: 0.02,
             kernel: Kernel::Auto,
+            descent: sls::DescentModel::Default,
         }
     }
 

@@ -20,17 +20,18 @@ use crate::support::{enum_value, input_err, interruptible, run_err, settings, to
 /// "ds", "sa", "sals", "avg" or "asa"; any other keyword argument is a setting of that
 /// algorithm (`phi=1.2`, as `--set phi=1.2`; missing ones take the paper's defaults). lobes,
 /// kind, exponent, fixed: the model (see `Model`); target: stop at this RMSE (0: use the whole
-/// budget); cpu_seconds: the CPU-time budget of the worker thread; seed: as `--seed`.
+/// budget); cpu_seconds: the CPU-time budget of the worker thread; seed: as `--seed`;
+/// descent: the descents' solver, "default", "gauss-newton" or "n2fb" (as `--descent`).
 ///
 /// Returns a dict: params (physical, a dict), x (optimiser coordinates), names, rmse (of the
 /// fitted parameters, recomputed in full), stop, reached, cpu_seconds, wall_seconds,
 /// evaluations (sample-evaluations), evaluation_counts, reached_at, trace (dict of arrays
 /// cpu_seconds, wall_seconds, evaluations, rmse: one entry per improvement), counters,
-/// algorithm (every setting, defaults included), kernel, seed.
+/// algorithm (every setting, defaults included), kernel, descent, seed.
 ///
 /// Releases the GIL while fitting; Ctrl-C stops the fit and raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (data, algorithm="aed", *, lobes=1, kind="anisotropic", exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", **config))]
+#[pyo3(signature = (data, algorithm="aed", *, lobes=1, kind="anisotropic", exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", **config))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
@@ -44,6 +45,7 @@ pub fn fit(
     cpu_seconds: f64,
     seed: u64,
     kernel: &str,
+    descent: &str,
     config: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
@@ -58,6 +60,7 @@ pub fn fit(
     )
     .map_err(input_err)?;
     let kernel: Kernel = kernel.parse().map_err(input_err)?;
+    let descent: sls::DescentModel = descent.parse().map_err(input_err)?;
     let data = data_arg(py, data)?;
     let request = FitRequest {
         model,
@@ -66,6 +69,7 @@ pub fn fit(
         cpu_seconds,
         target,
         kernel,
+        descent,
     };
     let outcome = interruptible(py, |flag| harness::fit::fit(data, &request, Some(flag)))?;
     match outcome {
@@ -125,6 +129,7 @@ fn fit_dict(py: Python<'_>, request: &FitRequest, fit: FitOutcome) -> PyResult<P
     )?;
     d.set_item("algorithm", to_python(py, &request.algorithm)?)?;
     d.set_item("kernel", fit.kernel.to_string())?;
+    d.set_item("descent", request.descent.to_string())?;
     d.set_item("seed", request.seed)?;
     d.set_item("x", PyArray1::from_vec(py, fit.result.best_x))?;
     Ok(d.into_any().unbind())

@@ -23,18 +23,26 @@ def parse_fit(stdout: str) -> dict:
 
 
 @pytest.mark.parametrize(
-    "algorithm,settings,seed",
-    [("aed", {}, 3), ("aed", {"phi": 1.2, "rho0": 50}, 5), ("rpls", {}, 2)],
+    "algorithm,settings,seed,descent",
+    [
+        ("aed", {}, 3, "default"),
+        ("aed", {"phi": 1.2, "rho0": 50}, 5, "default"),
+        ("rpls", {}, 2, "default"),
+        ("rpls", {}, 2, "n2fb"),
+    ],
 )
-def test_fit_matches_brdf_sls_fit_with_the_same_seed(cli, krylon, algorithm, settings, seed):
+def test_fit_matches_brdf_sls_fit_with_the_same_seed(cli, krylon, algorithm, settings, seed, descent):
     sets = [a for k, v in settings.items() for a in ("--set", f"{k}={v}")]
     out = cli(
         "fit", krylon, "--max-value", 1, "--lobes", 1, "--kind", "isotropic",
         "--algorithm", algorithm, *sets, "--target", 0.037, "--cpu-seconds", 30, "--seed", seed,
+        "--descent", descent,
     ).stdout
+    assert f"descent {descent}," in out
     want = parse_fit(out)
     data = bs.DataSet.read(krylon, max_value=1.0)
-    got = bs.fit(data, algorithm, seed=seed, **KRYLON_FIT, **settings)
+    got = bs.fit(data, algorithm, seed=seed, descent=descent, **KRYLON_FIT, **settings)
+    assert got["descent"] == descent
     # Both must have stopped on the target, so the CPU clock cannot have changed the outcome.
     assert want["stop"] == "Target" and got["stop"] == "target"
     assert got["params"] == want["params"]

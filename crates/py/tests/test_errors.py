@@ -119,6 +119,12 @@ def test_bad_model_and_parameters_raise():
         data.column("w")
 
 
+def test_unknown_descent_names_it_and_the_choices(krylon):
+    data = bs.DataSet.read(krylon)
+    with pytest.raises(bs.InputError, match="unknown descent `port`.*n2fb"):
+        bs.fit(data, "aed", cpu_seconds=1.0, descent="port")
+
+
 def test_reading_a_folder_without_results_raises(tmp_path):
     with pytest.raises(bs.InputError, match=str(tmp_path)):
         bs.read_results(tmp_path)

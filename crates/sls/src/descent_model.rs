@@ -56,6 +56,21 @@ impl DescentModel {
     }
 }
 
+impl std::str::FromStr for DescentModel {
+    type Err = String;
+
+    /// Parses the spec spelling; the error lists the choices.
+    fn from_str(name: &str) -> Result<Self, String> {
+        Self::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = Self::ALL.iter().map(|m| m.name()).collect();
+            format!(
+                "unknown descent `{name}` (expected one of {})",
+                names.join(", ")
+            )
+        })
+    }
+}
+
 impl std::fmt::Display for DescentModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -72,6 +87,9 @@ mod tests {
             assert_eq!(DescentModel::from_name(m.name()), Some(m));
         }
         assert_eq!(DescentModel::from_name("N2FB"), None);
+        let e = "port".parse::<DescentModel>().unwrap_err();
+        assert!(e.contains("`port`") && e.contains("gauss-newton"), "{e}");
+        assert_eq!("n2fb".parse::<DescentModel>(), Ok(DescentModel::N2fb));
         assert_eq!(DescentModel::Default.options(), Options::default());
         assert_eq!(DescentModel::N2fb.options(), Options::n2fb());
         assert_eq!(

@@ -50,6 +50,9 @@ pub struct FitArgs {
     /// Evaluation kernel: auto, avx512, avx2, portable or scalar.
     #[arg(long, default_value = "auto")]
     pub kernel: brdf_model::Kernel,
+    /// The descents' solver: default, gauss-newton, or n2fb (PORT's N2FB rule, the paper's).
+    #[arg(long, default_value = "default")]
+    pub descent: sls::DescentModel,
     /// Also diagnose the fit: singular values and condition number of the scaled Jacobian,
     /// standard errors, correlations, parameters the data cannot determine, seeded bootstrap
     /// intervals and sensitivity to perturbed data.

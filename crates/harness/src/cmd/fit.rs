@@ -32,14 +32,16 @@ pub fn fit(a: FitArgs) -> Result<()> {
         cpu_seconds: a.cpu_seconds,
         target: a.target,
         kernel: a.kernel,
+        descent: a.descent,
     };
     let fit = harness::fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);
     say!(
-        "algorithm {} (seed {}, kernel {}, brdf-sls {}), stop: {:?}",
+        "algorithm {} (seed {}, kernel {}, descent {}, brdf-sls {}), stop: {:?}",
         request.algorithm.kind_name(),
         a.seed,
         fit.kernel,
+        request.descent,
         env!("CARGO_PKG_VERSION"),
         r.stop
     );
