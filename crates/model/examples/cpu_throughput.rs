@@ -67,13 +67,17 @@ fn main() {
                 ev.forget_powers();
                 black_box(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac));
             });
+            // A full-data RMSE (the searches' checks), which needs no Jacobian.
+            let ss = measure(&mut || {
+                black_box(ev.sum_squares(black_box(&x), &data));
+            });
             // What a descent's accepted step asks: values, then the Jacobian at that point.
             let step = measure(&mut || {
                 black_box(ev.residuals(black_box(&x), &data, &mut r));
                 black_box(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac));
             });
             println!(
-                "{lobes} lobe(s) {label:>8}: values {v:6.2} ns/lobe-sample ({:.1}x scalar), values+jacobian {j:6.2}, values then values+jacobian at the same point {step:6.2}",
+                "{lobes} lobe(s) {label:>8}: values {v:6.2} ns/lobe-sample ({:.1}x scalar), values+jacobian {j:6.2}, values then values+jacobian at the same point {step:6.2}, sum of squares {ss:6.2}",
                 scalar / v
             );
         }
