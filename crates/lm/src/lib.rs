@@ -143,9 +143,9 @@
 //!   **The delay** (ours): with `S` in the scaling from the first update the searches were
 //!   slower, so `S` enters after [`Options::secant_scaling_delay`] updates per parameter.
 //!   Sample-evaluations to RMSE 0.11 on the paper's tuning instance (`cargo run --release -p sls
-//!   --example tuning_bench -- --seeds 200 --cutoff 10 --algorithms aed,rpls
-//!   [--no-secant-scaling] [--secant-delay K] [--adaptive]`, medians; MGH unbounded solved and
-//!   NIST correct with the Gauss-Newton model):
+//!   --example tuning_bench -- --seeds 200 --cutoff 10 --algorithms aed,rpls --gauss-newton
+//!   [--no-secant-scaling] [--secant-delay K]`, medians; MGH unbounded solved and NIST correct
+//!   with the Gauss-Newton model):
 //!
 //!   | secant scaling | AED | RPLS | MGH | NIST |
 //!   |---|---|---|---|---|
