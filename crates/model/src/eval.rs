@@ -771,7 +771,8 @@ fn lobe_values<A: MulAdd, const R: bool>(
 ) {
     let m = out.len();
     let mut dd = [0.0f64; CHUNK];
-    let mut stack_l = [0.0f64; CHUNK];
+    // Where `ln d` and `d^n` go when they are not kept.
+    let (mut stack_l, mut stack_f) = ([0.0f64; CHUNK], [0.0f64; CHUNK]);
     let (mut kf, mut kl) = match keep {
         Some((f, l)) => (Some(f), Some(l)),
         None => (None, None),
@@ -794,25 +795,13 @@ fn lobe_values<A: MulAdd, const R: bool>(
         for (l, &x) in ll.iter_mut().zip(dd.iter()) {
             *l = ln_clamped::<A>(x);
         }
-        let n = c.n;
-        match kf.as_deref_mut() {
-            Some(f) => {
-                let f = &mut f[lo..hi];
-                for (((o, fo), &l), &x) in out
-                    .iter_mut()
-                    .zip(f.iter_mut())
-                    .zip(ll.iter())
-                    .zip(dd.iter())
-                {
-                    *fo = pow_from_ln::<A>(x, n, l);
-                    *o += *fo;
-                }
-            }
-            None => {
-                for ((o, &l), &x) in out.iter_mut().zip(ll.iter()).zip(dd.iter()) {
-                    *o += pow_from_ln::<A>(x, n, l);
-                }
-            }
+        let ff = match kf.as_deref_mut() {
+            Some(f) => &mut f[lo..hi],
+            None => &mut stack_f[..k],
+        };
+        for (((o, f), &l), &x) in out.iter_mut().zip(ff).zip(ll.iter()).zip(dd.iter()) {
+            *f = pow_from_ln::<A>(x, c.n, l);
+            *o += *f;
         }
     }
 }
