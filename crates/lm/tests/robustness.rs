@@ -310,7 +310,7 @@ fn mgh_collection() {
 /// updates) both starts take at most 30 iterations (measured 21 / 24 and 23 / 27), and both end
 /// with relative function convergence (before the augmented model's NREDUC counted, the
 /// defaults ended 10 x0 with singular convergence at the minimum). The Gauss-Newton model with
-/// the secant scaling still reaches the minimum within the default budgets (71 and 81).
+/// the secant scaling still reaches the minimum, in at most 90 iterations (measured 71 and 81).
 #[test]
 fn secant_scaling_solves_brown_and_dennis() {
     let f_star = 42_911.100_8;
@@ -322,7 +322,7 @@ fn secant_scaling_solves_brown_and_dennis() {
         for (options, max_iterations) in [
             (Options::n2fb(), 30),
             (Options::default(), 30),
-            (gauss_newton.clone(), 150),
+            (gauss_newton.clone(), 90),
         ] {
             let mut p = Mgh::new(Kind::BrownDennis, 4, 20);
             let mut x = p.start(factor);

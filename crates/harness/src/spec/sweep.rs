@@ -106,11 +106,7 @@ fn entry_configurations(
     let combos = cartesian(cx, &sweep, lines)?;
     combos
         .into_iter()
-        .map(|combo| {
-            let mut c = swept_configuration(cx, &table, &label, combo, lines)?;
-            c.descent = descent;
-            Ok(c)
-        })
+        .map(|combo| swept_configuration(cx, &table, &label, descent, combo, lines))
         .collect()
 }
 
@@ -282,6 +278,7 @@ fn swept_configuration(
     cx: &Ctx<'_>,
     base: &toml::Table,
     label: &str,
+    descent: sls::DescentModel,
     combo: Vec<(String, toml::Value)>,
     lines: &EntryLines,
 ) -> Result<Configuration, SpecError> {
@@ -307,7 +304,7 @@ fn swept_configuration(
         algorithm_label: label.to_string(),
         swept,
         algorithm,
-        descent: sls::DescentModel::Default,
+        descent,
     })
 }
 
