@@ -140,10 +140,12 @@ fn lanes(m: usize) -> impl Iterator<Item = (usize, __mmask8)> {
     })
 }
 
-/// Adds `max(0, d)^n` to `out` for coefficients `c = [ap, aq, ar, cz]`.
+/// Adds `max(0, d)^n` to `out` for coefficients `c = [ap, aq, ar, cz]`; with
+/// `keep = Some((f, l))` also stores each sample's `d^n` in `f` and `ln d` in `l` for a later
+/// [`lobe_jacobian`] at the same point.
 ///
 /// # Safety
-/// The CPU must support AVX-512F; `d` must hold at least `out.len()` samples.
+/// The CPU must support AVX-512F; `d` (and `f`, `l`) must hold at least `out.len()` samples.
 #[target_feature(enable = "avx512f")]
 pub(crate) unsafe fn lobe_values(
     c: &[f64; 4],
@@ -151,13 +153,28 @@ pub(crate) unsafe fn lobe_values(
     with_r: bool,
     d: &View<'_>,
     out: &mut [f64],
+    keep: Option<(&mut [f64], &mut [f64])>,
 ) {
     let nn = splat(n);
-    for (i, mask) in lanes(out.len()) {
-        let dd = lobe_d(c, with_r, d, i, mask);
-        let (f, _) = pow_clamped(dd, nn);
-        let o = load(out, i, mask);
-        store(out, i, mask, _mm512_add_pd(o, f));
+    match keep {
+        None => {
+            for (i, mask) in lanes(out.len()) {
+                let dd = lobe_d(c, with_r, d, i, mask);
+                let (f, _) = pow_clamped(dd, nn);
+                let o = load(out, i, mask);
+                store(out, i, mask, _mm512_add_pd(o, f));
+            }
+        }
+        Some((kf, kl)) => {
+            for (i, mask) in lanes(out.len()) {
+                let dd = lobe_d(c, with_r, d, i, mask);
+                let (f, l) = pow_clamped(dd, nn);
+                let o = load(out, i, mask);
+                store(out, i, mask, _mm512_add_pd(o, f));
+                store(kf, i, mask, f);
+                store(kl, i, mask, l);
+            }
+        }
     }
 }
 
@@ -166,10 +183,14 @@ pub(crate) unsafe fn lobe_values(
 /// Adds `max(0, d)^n` to `out`; for each `Some` column `k` writes
 /// `g (rows[k][0] P + rows[k][1] Q + rows[k][2] R + rows[k][3] S)` with `g = n d^n / d`,
 /// except column 3 (the exponent), which gets `d^n ln d * n_scale`. Returns false when a
-/// value or derivative is not finite.
+/// value or derivative is not finite. With `cached = Some((f, l))` (this lobe's `d^n` and
+/// `ln d` from [`lobe_values`] at the same point and samples) the logarithm and exponential are
+/// not recomputed; `d` is recomputed with the same operations, so the results are the same
+/// bits.
 ///
 /// # Safety
-/// The CPU must support AVX-512F; `d` and every column must hold at least `out.len()` entries.
+/// The CPU must support AVX-512F; `d`, every column (and `f`, `l`) must hold at least
+/// `out.len()` entries.
 #[target_feature(enable = "avx512f")]
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn lobe_jacobian(
@@ -181,6 +202,7 @@ pub(crate) unsafe fn lobe_jacobian(
     cols: &mut [Option<&mut [f64]>; 5],
     rows: &[[f64; 4]; 5],
     n_scale: f64,
+    cached: Option<(&[f64], &[f64])>,
 ) -> bool {
     let nn = splat(n);
     let zero = _mm512_setzero_pd();
@@ -207,7 +229,10 @@ pub(crate) unsafe fn lobe_jacobian(
         if with_r {
             dd = _mm512_fmadd_pd(splat(c[2]), r, dd);
         }
-        let (f, l) = pow_clamped(dd, nn);
+        let (f, l) = match cached {
+            Some((cf, cl)) => (load(cf, i, mask), load(cl, i, mask)),
+            None => pow_clamped(dd, nn),
+        };
         let o = load(out, i, mask);
         store(out, i, mask, _mm512_add_pd(o, f));
         let pos = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(dd, zero);

@@ -11,7 +11,8 @@
 //! Pan columns are derivatives **per degree** (the internal pan coordinate is degrees):
 //! `∂d/∂pan = π/180 · (Cx − Cy)(sin 2p (Q − P) + cos 2p R)`.
 //!
-//! [`Evaluator::residuals`] on [`POWERS_MIN_ROWS`] or more samples (generic kernels) keeps each
+//! [`Evaluator::residuals`] on [`POWERS_MIN_ROWS`] or more samples (every kernel but the scalar
+//! reference) keeps each
 //! lobe's `d^n` and `ln d`; a Jacobian at the same point (bit for bit), on the same samples
 //! (the data set's stamp) and with the same kernel reuses them instead of recomputing the
 //! logarithm and exponential, which are most of its cost. That is what a descent does after
@@ -320,7 +321,11 @@ impl Evaluator {
         }
         let kd = self.prepare(x);
         let m = r.len();
-        let keep = m >= POWERS_MIN_ROWS && matches!(self.kernel, Kernel::Avx2 | Kernel::Portable);
+        let keep = m >= POWERS_MIN_ROWS
+            && matches!(
+                self.kernel,
+                Kernel::Avx512 | Kernel::Avx2 | Kernel::Portable
+            );
         if !keep {
             return residuals_view(self.kernel, &self.coefs, kd, &data.view(0, m), r);
         }
@@ -504,8 +509,8 @@ fn residuals_view(kernel: Kernel, coefs: &[Coef], kd: f64, data: &View<'_>, r: &
     residuals_keeping(kernel, coefs, kd, data, r, None)
 }
 
-/// [`residuals_view`] that also stores every lobe's `d^n` and `ln d` in `keep` (generic kernels
-/// only; `keep` is ignored by the others).
+/// [`residuals_view`] that also stores every lobe's `d^n` and `ln d` in `keep` (ignored by the
+/// scalar reference kernel).
 fn residuals_keeping(
     kernel: Kernel,
     coefs: &[Coef],
@@ -517,7 +522,7 @@ fn residuals_keeping(
     match kernel {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: a kernel is only selected when the CPU reports its features.
-        Kernel::Avx512 => unsafe { simd::residuals512(coefs, kd, data, r) },
+        Kernel::Avx512 => unsafe { simd::residuals512(coefs, kd, data, r, keep) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
         Kernel::Avx2 => unsafe { simd::residuals(coefs, kd, data, r, keep) },
@@ -966,10 +971,11 @@ fn residuals_impl<A: MulAdd, const K: u8>(
     for (lobe, c) in coefs.iter().enumerate() {
         let keep = keep.as_deref_mut().map(|p| lobe_powers_mut(p, m, lobe));
         if K == AVX512 {
-            // SAFETY: K == AVX512 is only instantiated inside AVX-512F functions.
+            // SAFETY: K == AVX512 is only instantiated inside AVX-512F functions; the kept
+            // columns have m entries.
             #[cfg(target_arch = "x86_64")]
             unsafe {
-                crate::avx512::lobe_values(&[c.ap, c.aq, c.ar, c.cz], c.n, !c.no_r, data, r)
+                crate::avx512::lobe_values(&[c.ap, c.aq, c.ar, c.cz], c.n, !c.no_r, data, r, keep)
             };
         } else if c.no_r {
             lobe_values::<A, false>(c, data, r, keep);
@@ -998,7 +1004,7 @@ struct JacWork<'a> {
     kd: f64,
     data: &'a DataSet,
     /// `d^n` and `ln d` of every lobe and sample at this point, when a residual evaluation
-    /// at the same point and data left them (generic kernels only).
+    /// at the same point and data left them (every kernel but scalar).
     powers: Option<&'a [f64]>,
 }
 
@@ -1043,6 +1049,7 @@ fn jacobian_impl<A: MulAdd, const K: u8>(
                     &mut cols,
                     &rows,
                     n_scale,
+                    w.powers.map(|p| lobe_powers(p, m, l)),
                 )
             };
             continue;
@@ -1103,8 +1110,9 @@ mod simd {
         kd: f64,
         data: &View<'_>,
         r: &mut [f64],
+        keep: Option<&mut [f64]>,
     ) -> bool {
-        residuals_impl::<Fused, AVX512>(coefs, kd, data, r, None)
+        residuals_impl::<Fused, AVX512>(coefs, kd, data, r, keep)
     }
 
     /// # Safety

@@ -1,5 +1,5 @@
 //! The powers a residual evaluation keeps for the Jacobian at the same point
-//! (`Evaluator::residuals` on 256 or more samples, generic kernels): the Jacobian that reuses
+//! (`Evaluator::residuals` on 256 or more samples, every kernel but scalar): the Jacobian that reuses
 //! them is bit for bit the one computed from scratch, and they are never used for another
 //! point, another data set or other samples in the same buffer; Jacobians after an
 //! evaluation that overflowed are right too.
@@ -18,10 +18,15 @@ fn layouts() -> Vec<Layout> {
 }
 
 fn kernels() -> Vec<Kernel> {
-    [Kernel::Avx2, Kernel::Portable, Kernel::Scalar]
-        .into_iter()
-        .filter(|k| k.resolve().is_ok())
-        .collect()
+    [
+        Kernel::Avx512,
+        Kernel::Avx2,
+        Kernel::Portable,
+        Kernel::Scalar,
+    ]
+    .into_iter()
+    .filter(|k| k.resolve().is_ok())
+    .collect()
 }
 
 /// Residuals and Jacobian at `x` from an evaluator that never saw another point.
