@@ -26,7 +26,7 @@ fn text(o: &Output) -> String {
 fn help_on_every_command() {
     let dir = tempfile::tempdir().unwrap();
     for cmd in [
-        "run", "check", "plot", "stats", "fit", "gen", "eval", "info", "render", "polar",
+        "run", "check", "plot", "stats", "fit", "gen", "eval", "info", "render", "polar", "bench",
     ] {
         let o = brdf_sls(&[cmd, "--help"], dir.path());
         assert!(o.status.success(), "{cmd}: {}", text(&o));
@@ -680,4 +680,38 @@ fn ioh_export_matches_the_results() {
             .unwrap();
         assert_eq!(last, meta_run["best"]["y"].as_f64().unwrap());
     }
+}
+
+#[test]
+fn bench_writes_its_report_shows_progress_and_rejects_bad_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = brdf_sls(&["bench", "--seeds", "0"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--seeds 0"), "{}", text(&o));
+    let o = brdf_sls(&["bench", "--cutoff", "-1"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+
+    let args = ["bench", "--seeds", "1", "--cutoff", "0.01", "--out", "b"];
+    let o = brdf_sls(&[&args[..], &["--progress", "plain"]].concat(), dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    // One plain progress line at the end, counting all 6 search rows.
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("6/6 trials") && err.contains("cross RPLS 1/1"),
+        "{err}"
+    );
+    let md = std::fs::read_to_string(dir.path().join("b/bench.md")).unwrap();
+    for row in ["| tuning | AED |", "| tuning | RPLS |", "| cross | AERS |"] {
+        assert!(md.contains(row), "{row} missing from\n{md}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("b/bench.json")).unwrap()).unwrap();
+    assert_eq!(json["searches"].as_array().unwrap().len(), 6);
+    assert_eq!(json["seeds"], 1);
+    assert!(!json["kernels"].as_array().unwrap().is_empty());
+
+    // Quiet shows no progress line.
+    let o = brdf_sls(&[&args[..], &["--progress", "quiet"]].concat(), dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("trials ("));
 }

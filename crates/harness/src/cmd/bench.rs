@@ -13,6 +13,7 @@ use serde::Serialize;
 
 use super::{bail_input, note, say};
 use crate::cli::BenchArgs;
+use harness::progress::{Progress, ProgressMode};
 
 /// Floating-point operations of one lobe-sample of values, counted in the generic loop: the
 /// rotated dot product (4 multiplies, 3 adds), the clamp, `ln d` and `exp(n ln d)` (about 16
@@ -77,8 +78,12 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     let peak = peak_gflops();
     note!("measuring the kernels ...");
     let kernels = kernel_rows(peak)?;
-    note!("running the searches ({} seeds each) ...", a.seeds);
-    let searches = search_rows(a.seeds, a.cutoff)?;
+    note!(
+        "running the searches ({} seed(s) each, {} CPU s cutoff) ...",
+        a.seeds,
+        a.cutoff
+    );
+    let searches = search_rows(a.seeds, a.cutoff, a.progress)?;
     let report = BenchReport {
         program_version: env!("CARGO_PKG_VERSION").to_string(),
         cpu: harness::machine::MachineInfo::current(1).cpu_model,
@@ -195,22 +200,44 @@ fn kernel_rows(peak: f64) -> Result<Vec<KernelRow>> {
 }
 
 /// AED, AERS and RPLS on T2 (target 0.11) and T3 (cross, target 0.1), the paper's defaults.
-fn search_rows(seeds: u64, cutoff: f64) -> Result<Vec<SearchRow>> {
+/// The instances of the search rows and their targets.
+const SEARCH_INSTANCES: [(&str, f64); 2] = [("tuning", 0.11), ("cross", 0.1)];
+/// The algorithms of the search rows.
+const SEARCH_ALGORITHMS: [&str; 3] = ["aed", "aers", "rpls"];
+
+fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<SearchRow>> {
+    let labels: Vec<String> = SEARCH_INSTANCES
+        .iter()
+        .flat_map(|(i, _)| SEARCH_ALGORITHMS.map(|k| format!("{i} {}", k.to_uppercase())))
+        .collect();
+    let zeros = vec![0; labels.len()];
+    let progress = Progress::new(
+        progress,
+        &labels,
+        &vec![seeds; labels.len()],
+        &zeros,
+        &zeros,
+    );
     let mut rows = Vec::new();
-    for (instance, target) in [("tuning", 0.11), ("cross", 0.1)] {
+    for (instance, target) in SEARCH_INSTANCES {
         let params = named_params(instance).context("named parameters")?;
         let data = Arc::new(brdf_model::try_synthetic(&params, 10_000, 0.1, 1)?);
         let kinds = vec![LobeKind::Anisotropic; params.lobes.len()];
         let layout = Layout::builder(&kinds).build()?;
         let objective = sls::BrdfObjective::new(data, layout);
-        for kind in ["aed", "aers", "rpls"] {
+        for kind in SEARCH_ALGORITHMS {
+            let row = rows.len();
             let config = sls::AlgorithmConfig::default_for(kind).context("algorithm")?;
             let budget = sls::Budget {
                 cpu_seconds: Some(cutoff),
                 sample_evaluations: None,
             };
             let results: Vec<_> = (0..seeds)
-                .map(|s| sls::run_trial(&objective, &config, 1000 + s, budget, target))
+                .map(|s| {
+                    let r = sls::run_trial(&objective, &config, 1000 + s, budget, target);
+                    progress.trial_done(row, r.reached_at.is_some());
+                    r
+                })
                 .collect();
             let reached: Vec<_> = results.iter().filter_map(|r| r.reached_at).collect();
             let median = |mut v: Vec<f64>| {
@@ -239,6 +266,7 @@ fn search_rows(seeds: u64, cutoff: f64) -> Result<Vec<SearchRow>> {
             });
         }
     }
+    progress.finish();
     Ok(rows)
 }
 
