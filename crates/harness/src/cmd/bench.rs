@@ -199,12 +199,13 @@ fn kernel_rows(peak: f64) -> Result<Vec<KernelRow>> {
         .collect())
 }
 
-/// AED, AERS and RPLS on T2 (target 0.11) and T3 (cross, target 0.1), the paper's defaults.
 /// The instances of the search rows and their targets.
 const SEARCH_INSTANCES: [(&str, f64); 2] = [("tuning", 0.11), ("cross", 0.1)];
 /// The algorithms of the search rows.
 const SEARCH_ALGORITHMS: [&str; 3] = ["aed", "aers", "rpls"];
 
+/// AED, AERS and RPLS on T2 (target 0.11) and T3 (cross, target 0.1), the paper's defaults,
+/// one trial at a time on this thread (CPU times are per thread), with progress.
 fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<SearchRow>> {
     let labels: Vec<String> = SEARCH_INSTANCES
         .iter()
