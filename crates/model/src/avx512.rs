@@ -66,10 +66,18 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
     let t2 = _mm512_fmadd_pd(w, t2, splat(LG[0]));
     let t2 = _mm512_mul_pd(z, t2);
     let r = _mm512_add_pd(t2, t1);
-    // ln m = 2 atanh(s) = 2s + s R: a few ulp instead of fdlibm's < 1 ulp (its `hfsq`
-    // rearrangement costs 4 more operations), ample for the 1e-10 target.
-    let lm = _mm512_fmadd_pd(s, r, _mm512_add_pd(s, s));
-    let l = _mm512_fmadd_pd(e, splat(LN2_HI), _mm512_fmadd_pd(e, splat(LN2_LO), lm));
+    // fdlibm's rearrangement, as in `fastmath::ln_pos` (< 1 ulp):
+    // ln d = e ln2_hi - ((hfsq - (s (hfsq + R) + e ln2_lo)) - f) with hfsq = f^2 / 2.
+    // The shorter `2s + sR` was a few ulp, which with the degree-10 exponential below put the
+    // values up to 870 ulps off, outside brdf-stress's forward-error bound.
+    let hfsq = _mm512_mul_pd(splat(0.5), _mm512_mul_pd(f, f));
+    let inner = _mm512_fmadd_pd(s, _mm512_add_pd(hfsq, r), _mm512_mul_pd(e, splat(LN2_LO)));
+    let l = _mm512_fmadd_pd(
+        e,
+        splat(LN2_HI),
+        // Negation by -1 (exact, and -0 for +0 as in the scalar code).
+        _mm512_mul_pd(splat(-1.0), _mm512_sub_pd(_mm512_sub_pd(hfsq, inner), f)),
+    );
     // exp(n l). No clamping: |n l| <= 1e4 * 745, r stays accurate thanks to the fused
     // reduction, and scalef saturates to +inf / 0 for any k.
     let x = _mm512_mul_pd(n, l);
@@ -78,9 +86,10 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
     );
     let r = _mm512_fnmadd_pd(k, splat(LN2_HI), x);
     let r = _mm512_fnmadd_pd(k, splat(LN2_LO), r);
-    // Degree 10 (truncation < 2.3e-13 relative on |r| <= ln2/2).
-    let mut p = splat(EXP_C[1]);
-    for &c in &EXP_C[2..] {
+    // Degree 11, as in `fastmath::exp` (truncation < 7e-15 relative on |r| <= ln2/2; degree 10
+    // was 2.3e-13, about 1000 ulps).
+    let mut p = splat(EXP_C[0]);
+    for &c in &EXP_C[1..] {
         p = _mm512_fmadd_pd(p, r, splat(c));
     }
     let f = _mm512_scalef_pd(p, k);
