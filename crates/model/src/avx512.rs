@@ -165,24 +165,15 @@ pub(crate) unsafe fn lobe_values(
     keep: Option<(&mut [f64], &mut [f64])>,
 ) {
     let nn = splat(n);
-    match keep {
-        None => {
-            for (i, mask) in lanes(out.len()) {
-                let dd = lobe_d(c, with_r, d, i, mask);
-                let (f, _) = pow_clamped(dd, nn);
-                let o = load(out, i, mask);
-                store(out, i, mask, _mm512_add_pd(o, f));
-            }
-        }
-        Some((kf, kl)) => {
-            for (i, mask) in lanes(out.len()) {
-                let dd = lobe_d(c, with_r, d, i, mask);
-                let (f, l) = pow_clamped(dd, nn);
-                let o = load(out, i, mask);
-                store(out, i, mask, _mm512_add_pd(o, f));
-                store(kf, i, mask, f);
-                store(kl, i, mask, l);
-            }
+    let mut keep = keep;
+    for (i, mask) in lanes(out.len()) {
+        let dd = lobe_d(c, with_r, d, i, mask);
+        let (f, l) = pow_clamped(dd, nn);
+        let o = load(out, i, mask);
+        store(out, i, mask, _mm512_add_pd(o, f));
+        if let Some((kf, kl)) = keep.as_mut() {
+            store(kf, i, mask, f);
+            store(kl, i, mask, l);
         }
     }
 }

@@ -316,12 +316,20 @@ impl Evaluator {
     /// Residuals `r_i = f(u_i, v_i) - y_i` at internal vector `x`. Returns false (a failed
     /// evaluation) when a value is not finite (overflow) or the lengths do not match.
     pub fn residuals(&mut self, x: &[f64], data: &DataSet, r: &mut [f64]) -> bool {
+        self.values(x, data, r, true)
+    }
+
+    /// [`Evaluator::residuals`]; with `may_keep` false the powers are never kept (an RMSE is not
+    /// followed by a Jacobian at the same point on the same samples, so keeping them would only
+    /// cost their stores).
+    fn values(&mut self, x: &[f64], data: &DataSet, r: &mut [f64], may_keep: bool) -> bool {
         if !self.check(x, data, r.len()) {
             return false;
         }
         let kd = self.prepare(x);
         let m = r.len();
-        let keep = m >= POWERS_MIN_ROWS
+        let keep = may_keep
+            && m >= POWERS_MIN_ROWS
             && matches!(
                 self.kernel,
                 Kernel::Avx512 | Kernel::Avx2 | Kernel::Portable
@@ -395,16 +403,9 @@ impl Evaluator {
 
     /// Sum of squared residuals; `+inf` when the evaluation fails (never NaN).
     pub fn sum_squares(&mut self, x: &[f64], data: &DataSet) -> f64 {
-        let m = data.len();
-        if x.len() != self.layout.dim() {
-            return f64::INFINITY;
-        }
-        let kd = self.prepare(x);
         let mut r = std::mem::take(&mut self.rbuf);
-        let rm = grown(&mut r, m);
-        // Not `residuals`: an RMSE is not followed by a Jacobian at the same point on the same
-        // samples, so keeping the powers would only cost their stores.
-        let ok = residuals_view(self.kernel, &self.coefs, kd, &data.view(0, m), rm);
+        let rm = grown(&mut r, data.len());
+        let ok = self.values(x, data, rm, false);
         let ss = if ok { sum_sq(rm) } else { f64::INFINITY };
         self.rbuf = r;
         if ss.is_finite() { ss } else { f64::INFINITY }
