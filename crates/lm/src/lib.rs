@@ -60,7 +60,8 @@
 //! obtained), the longer step is tried at once from the same point without a new Jacobian
 //! (DA7SST's IRC = 5; evaluated only if it predicts more than 1.2 times the reduction obtained,
 //! DG7ITB), and the better of the two is kept. Unlike NL2SOL we try at most one longer step per
-//! iteration ([`RadiusUpdate::Nl2sol`] documents why). [`RadiusUpdate::Classic`] is the ratio
+//! iteration, and none once the adaptive model choice may switch models
+//! ([`RadiusUpdate::Nl2sol`] documents why: both measured worse on NIST or MGH). [`RadiusUpdate::Classic`] is the ratio
 //! rule of the first version (0.1..0.5 after a rejection, halve below ratio 0.25, double above
 //! 0.75).
 //!

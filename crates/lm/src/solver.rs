@@ -1476,13 +1476,15 @@ impl TrustRadius {
 
     /// DA7SST's radius decision for an assessed step; `gts` = `g^T s`. A rejected step changes
     /// the radius at once; an accepted one leaves RADFAC to be applied by
-    /// [`TrustRadius::start_iteration`] (N2FB's rule).
+    /// [`TrustRadius::start_iteration`] (N2FB's rule). `switching`: the adaptive model choice
+    /// may switch models in this iteration; then no longer step is tried (our departure from
+    /// NL2SOL, measured in [`RadiusUpdate::Nl2sol`]'s docs).
     fn after_step(
         &mut self,
         trial: &Trial,
         a: &Assessment,
         gts: f64,
-        adaptive: bool,
+        switching: bool,
     ) -> RadiusChange {
         let info = &trial.info;
         let mut change = RadiusChange {
@@ -1514,7 +1516,7 @@ impl TrustRadius {
                     let newton_close = info.newton_norm >= 0.0
                         && (info.newton_norm < 2.0 * info.dnorm || info.nreduc < 1.2 * a.ared);
                     change.try_longer =
-                        !info.newton && !newton_close && !adaptive && self.radinc < MAX_RADINC;
+                        !info.newton && !newton_close && !switching && self.radinc < MAX_RADINC;
                     up
                 } else {
                     1.0
