@@ -31,6 +31,16 @@
 /// with them.
 pub const DEFAULT_RUNS_DIR: &str = "runs";
 
+/// The program version recorded with results and printed by `--version`: the crate version and
+/// the git commit of the build, e.g. `0.2.0 (git 80f45a0c1d2e)`; `-modified` after the commit
+/// means the code differed from it, `git unknown` that the build had no git checkout.
+pub const PROGRAM_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (git ",
+    env!("BRDF_SLS_GIT"),
+    ")"
+);
+
 pub mod best_known;
 pub mod export;
 pub mod figures;
@@ -47,3 +57,18 @@ pub mod spec;
 pub mod stats;
 pub mod store;
 pub mod tune;
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn program_version_names_the_crate_version_and_the_commit() {
+        let v = super::PROGRAM_VERSION;
+        let rest = v
+            .strip_prefix(concat!(env!("CARGO_PKG_VERSION"), " (git "))
+            .and_then(|r| r.strip_suffix(')'))
+            .unwrap_or_else(|| panic!("unexpected form: {v}"));
+        let id = rest.strip_suffix("-modified").unwrap_or(rest);
+        let commit = id.len() == 12 && id.chars().all(|c| c.is_ascii_hexdigit());
+        assert!(commit || id == "unknown", "not a commit: {v}");
+    }
+}

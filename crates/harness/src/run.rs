@@ -229,7 +229,7 @@ pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Heade
         machine: MachineInfo::current(threads),
         spec: spec.canonical(),
         spec_text: spec.text.clone(),
-        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        program_version: crate::PROGRAM_VERSION.to_string(),
         kernel: provenance.kernel.clone(),
         data_hashes: provenance.data_hashes.clone(),
         shard: None,

@@ -175,7 +175,9 @@ pub struct Header {
     /// The spec's TOML text as given (lets `plot` and `stats` work from the results alone).
     #[serde(default)]
     pub spec_text: String,
-    /// Version of the program that created the file (empty in older files).
+    /// Version of the program that created the file ([`crate::PROGRAM_VERSION`]: the crate
+    /// version and the git commit of the build; the crate version only in files before
+    /// 2026-12-02, empty in older ones).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub program_version: String,
     /// The evaluation kernel of the first session (empty in older files).
@@ -208,7 +210,7 @@ pub struct Session {
     /// `stats` and `plot` on the folder alone use the latest plan. Empty in older files.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub spec_text: String,
-    /// Version of the program that ran this session (empty in older files).
+    /// Version of the program that ran this session (as in [`Header::program_version`]).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub program_version: String,
     /// The evaluation kernel of this session (empty in older files).
@@ -663,7 +665,7 @@ impl ResultStore {
             machine: header.machine.clone(),
             trials_present: records.len(),
             spec_text: header.spec_text.clone(),
-            program_version: env!("CARGO_PKG_VERSION").to_string(),
+            program_version: crate::PROGRAM_VERSION.to_string(),
             kernel: header.kernel.clone(),
             best_known: header.best_known.clone(),
         }))?;

@@ -25,7 +25,7 @@ use harness::progress::ProgressMode;
 #[derive(Parser)]
 #[command(
     name = "brdf-sls",
-    version,
+    version = harness::PROGRAM_VERSION,
     about = "Stochastic local search for Lafortune BRDF fitting: experiments, statistics, plots",
     long_about = "Stochastic local search for Lafortune BRDF fitting (Backer, Kimberley and \
 Skrypnyk).\n\nStart with `brdf-sls run`: it runs the built-in default experiment (the paper's \

@@ -85,7 +85,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     );
     let searches = search_rows(a.seeds, a.cutoff, a.progress)?;
     let report = BenchReport {
-        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        program_version: harness::PROGRAM_VERSION.to_string(),
         cpu: harness::machine::MachineInfo::current(1).cpu_model,
         peak_gflops_per_core: peak,
         flops_per_value: FLOPS_PER_VALUE,

@@ -42,7 +42,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         a.seed,
         fit.kernel,
         request.descent,
-        env!("CARGO_PKG_VERSION"),
+        harness::PROGRAM_VERSION,
         r.stop
     );
     say!(

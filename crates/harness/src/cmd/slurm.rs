@@ -86,7 +86,7 @@ fn scripts(
     slurm_dir: &Path,
 ) -> Scripts {
     let n = a.shards;
-    let version = env!("CARGO_PKG_VERSION");
+    let version = harness::PROGRAM_VERSION;
     let job = format!("brdf-sls-{name}");
     let logs = slurm_dir.join("logs");
     let resources = resource_lines(a);

@@ -1,0 +1,68 @@
+//! Records which code the binary is built from, so that results can say which code wrote them:
+//! `BRDF_SLS_GIT` is the git commit (12 hex digits), with `-modified` when the workspace's
+//! sources differ from it, or `unknown` outside a git checkout (a packaged crate, a tarball).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The tracked paths whose uncommitted changes make a build `-modified` (the code, not
+/// results/ or the docs).
+const CODE_PATHS: [&str; 3] = ["crates", "Cargo.toml", "Cargo.lock"];
+
+fn git(root: &Path, args: &[&str]) -> Option<String> {
+    let out = Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(args)
+        .output()
+        .ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
+    let root = manifest.join("../..");
+    let commit = git(&root, &["rev-parse", "--short=12", "HEAD"]);
+    let mut status_args = vec!["status", "--porcelain", "--untracked-files=no", "--"];
+    status_args.extend(CODE_PATHS);
+    let modified = git(&root, &status_args).map(|s| !s.is_empty());
+    let describe = match (commit, modified) {
+        (Some(c), Some(true)) => format!("{c}-modified"),
+        (Some(c), _) => c,
+        _ => "unknown".to_string(),
+    };
+    println!("cargo:rustc-env=BRDF_SLS_GIT={describe}");
+    // Run again when HEAD moves (checkout, commit) or the code changes.
+    if let Some(git_dir) = git(&root, &["rev-parse", "--absolute-git-dir"]) {
+        let git_dir = PathBuf::from(git_dir);
+        println!("cargo:rerun-if-changed={}", git_dir.join("HEAD").display());
+        println!(
+            "cargo:rerun-if-changed={}",
+            git_dir.join("packed-refs").display()
+        );
+        if let Some(head_ref) = git(&root, &["symbolic-ref", "-q", "HEAD"]) {
+            println!(
+                "cargo:rerun-if-changed={}",
+                git_dir.join(head_ref).display()
+            );
+        }
+    }
+    for p in [
+        "crates/model",
+        "crates/lm",
+        "crates/sls",
+        "crates/graphics",
+        "crates/stress",
+    ] {
+        println!(
+            "cargo:rerun-if-changed={}",
+            root.join(p).join("src").display()
+        );
+    }
+    println!("cargo:rerun-if-changed={}", manifest.join("src").display());
+    for p in ["Cargo.toml", "Cargo.lock"] {
+        println!("cargo:rerun-if-changed={}", root.join(p).display());
+    }
+}
