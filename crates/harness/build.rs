@@ -34,35 +34,25 @@ fn main() {
         _ => "unknown".to_string(),
     };
     println!("cargo:rustc-env=BRDF_SLS_GIT={describe}");
-    // Run again when HEAD moves (checkout, commit) or the code changes.
+    // Run again when HEAD moves (checkout, commit) or the code changes. Only existing paths:
+    // cargo reruns a build script on every build while one of its paths is missing.
+    let watch = |path: PathBuf| {
+        if path.exists() {
+            println!("cargo:rerun-if-changed={}", path.display());
+        }
+    };
     if let Some(git_dir) = git(&root, &["rev-parse", "--absolute-git-dir"]) {
         let git_dir = PathBuf::from(git_dir);
-        println!("cargo:rerun-if-changed={}", git_dir.join("HEAD").display());
-        println!(
-            "cargo:rerun-if-changed={}",
-            git_dir.join("packed-refs").display()
-        );
+        watch(git_dir.join("HEAD"));
+        watch(git_dir.join("packed-refs"));
         if let Some(head_ref) = git(&root, &["symbolic-ref", "-q", "HEAD"]) {
-            println!(
-                "cargo:rerun-if-changed={}",
-                git_dir.join(head_ref).display()
-            );
+            watch(git_dir.join(head_ref));
         }
     }
-    for p in [
-        "crates/model",
-        "crates/lm",
-        "crates/sls",
-        "crates/graphics",
-        "crates/stress",
-    ] {
-        println!(
-            "cargo:rerun-if-changed={}",
-            root.join(p).join("src").display()
-        );
+    for p in ["model", "lm", "sls", "graphics", "stress", "harness"] {
+        watch(root.join("crates").join(p).join("src"));
     }
-    println!("cargo:rerun-if-changed={}", manifest.join("src").display());
     for p in ["Cargo.toml", "Cargo.lock"] {
-        println!("cargo:rerun-if-changed={}", root.join(p).display());
+        watch(root.join(p));
     }
 }
