@@ -220,6 +220,20 @@
 //!   stress cases now end with code 7 after 3 iterations at RMSE ~3e-3 instead of code 4 at
 //!   0.36. NIST and MGH counts are unchanged (golden: only MGH17 start 1 moved, still code 7
 //!   at the same f, in 11 iterations and 32 evaluations instead of 13 and 41).
+//!   **The hold is an option** ([`Options::hold_dead_columns`], on by default and in
+//!   [`Options::n2fb`], off in the searches' descents; N2FB has no such rule). Found when
+//!   the paper's figures were re-run on 2026-12-02: with the hold, AED on the two-lobe cross
+//!   brushed metal instance needed 9 times the sample-evaluations of the code before these
+//!   changes (same seeds and kernel: median 6.2e6 against 6.9e5, 100 trials of
+//!   `experiments/fig16-synthetic.toml`'s instance, target 0.02), because a lobe that is dead
+//!   on a subsample stays dead for the whole descent, where the garbage moves of the free
+//!   variables used to revive it. The rest of the protection (the QR's rescaling, the gradient
+//!   gate on code 4, no stationarity from a non-finite gradient) stays on in every
+//!   configuration, so with dead columns free no success code (3 to 6) fires away from a
+//!   stationary point; but the steps can be wasted on the dead variables and end with code 7
+//!   there (`tests/dead_columns.rs` checks both configurations). In a search code 7 only
+//!   shrinks the subsample, so the searches trade it for the revived lobes; a library user
+//!   keeps the hold.
 //! - **Interrupts**: [`Problem::should_stop`] is asked once per iteration and after every
 //!   failed evaluation, and ends the solve with [`Outcome::Interrupted`] (code 11, NL2SOL's
 //!   STOPX code).

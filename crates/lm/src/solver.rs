@@ -105,6 +105,8 @@ struct Workspace {
     /// Variables whose scaled Jacobian column is numerically dead ([`DEAD_COLUMN`]), and the
     /// max-abs entry of each scaled column.
     dead: Vec<bool>,
+    /// Hold numerically dead variables ([`Options::hold_dead_columns`]; set by each solve).
+    hold_dead: bool,
     col_max: Vec<f64>,
     /// Held variables and the indices of the free ones.
     fixed: Vec<bool>,
@@ -354,7 +356,7 @@ impl Workspace {
             max_scaled = max_scaled.max(self.col_max[j]);
         }
         for j in 0..p {
-            self.dead[j] = !(self.col_max[j] > DEAD_COLUMN * max_scaled);
+            self.dead[j] = self.hold_dead && !(self.col_max[j] > DEAD_COLUMN * max_scaled);
             self.col_scale[j] = if self.dead[j] { 0.0 } else { 1.0 / self.d[j] };
         }
         tall_qr(
@@ -390,7 +392,7 @@ impl Workspace {
         }
         for j in 0..p {
             // max-abs is within sqrt(m) of the 2-norm; comparing max-abs values is enough here.
-            self.dead[j] = !(self.col_max[j] > DEAD_COLUMN * max_scaled);
+            self.dead[j] = self.hold_dead && !(self.col_max[j] > DEAD_COLUMN * max_scaled);
             if self.dead[j] {
                 self.qr[j * m..(j + 1) * m].fill(0.0);
             }
@@ -1338,6 +1340,7 @@ impl Solver {
         }
         let ws = &mut self.ws;
         ws.prepare(m, p);
+        ws.hold_dead = options.hold_dead_columns;
         for i in 0..p {
             ws.lo[i] = lower[i];
             ws.hi[i] = upper[i];

@@ -119,3 +119,32 @@ fn dead_lobe_columns_do_not_fake_convergence() {
         }
     }
 }
+
+/// With the hold off (the searches' descents) the dead variables move by rounding-sized
+/// steps, which may waste the solve and end it with singular convergence (code 7) while the
+/// live `kd` is far from stationary, but never with a success code (3 to 6) there.
+#[test]
+fn free_dead_columns_waste_steps_but_never_claim_success() {
+    let lower = [0.0, -1.5, 0.0, -1.5, 0.0];
+    let upper = [1.0, 1.5, 400.0, 1.5, 400.0];
+    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
+        let opt = Options {
+            model,
+            hold_dead_columns: false,
+            ..Options::default()
+        };
+        for (n1, n2) in [(340.0, 345.0), (300.0, 352.0), (350.0, 350.5)] {
+            let mut prob = DeadLobes::new();
+            let mut x = [0.5, 0.04, n1, -0.14, n2];
+            let rep = Solver::new()
+                .solve(&mut prob, &mut x, &lower, &upper, &opt)
+                .unwrap();
+            let cos_kd = cosine(&mut prob, &x, 0);
+            assert!(x.iter().all(|v| v.is_finite()), "{x:?}");
+            assert!(
+                !rep.outcome.is_success() || cos_kd < 1e-3,
+                "{model:?} {n1} {n2}: {rep:?} kd cosine {cos_kd} at {x:?}"
+            );
+        }
+    }
+}

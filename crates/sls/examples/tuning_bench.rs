@@ -6,13 +6,16 @@
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
+//!     [--hold-dead-columns]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
 //! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
 //! default 2; 0 is N2FB's rule); `--gauss-newton` never uses the augmented model (the default
 //! before 2026-12-02); `--no-secant-scaling` leaves the secant term out of the scaling and
 //! `--secant-delay K` sets after how many secant updates per parameter it enters
-//! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
+//! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule).
+//! `--hold-dead-columns` holds numerically dead variables in the descents, as the library's
+//! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -46,6 +49,7 @@ struct Args {
     secant_scaling: bool,
     secant_delay: usize,
     adaptive_delay: usize,
+    hold_dead_columns: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -67,6 +71,7 @@ fn parse() -> Result<Args, String> {
         secant_scaling: bounded_lm::Options::default().secant_scaling,
         secant_delay: bounded_lm::Options::default().secant_scaling_delay,
         adaptive_delay: bounded_lm::Options::default().adaptive_delay,
+        hold_dead_columns: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -80,6 +85,10 @@ fn parse() -> Result<Args, String> {
         }
         if flag == "--gauss-newton" {
             a.gauss_newton = true;
+            continue;
+        }
+        if flag == "--hold-dead-columns" {
+            a.hold_dead_columns = true;
             continue;
         }
         if flag == "--no-secant-scaling" {
@@ -268,6 +277,7 @@ fn main() {
                 }
                 ctx.set_secant_scaling(args.secant_scaling, args.secant_delay);
                 ctx.set_adaptive_delay(args.adaptive_delay);
+                ctx.set_hold_dead_columns(args.hold_dead_columns);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

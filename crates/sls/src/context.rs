@@ -236,7 +236,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
             work: objective.workspace(),
             rng: SearchRng::seed_from_u64(seed),
             solver: Solver::new(),
-            options: Options::default(),
+            options: DescentModel::default().options(),
             meter: Meter::new(budget),
             target,
             reached_at: None,
@@ -289,6 +289,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// secant settings, keeps the budgets the searches set per descent).
     pub fn set_descent_model(&mut self, descent: DescentModel) {
         self.options = descent.options();
+    }
+
+    /// Whether the descents hold the variables of numerically dead Jacobian columns
+    /// (`bounded_lm::Options::hold_dead_columns`; off in the searches, see
+    /// [`DescentModel::options`]). For comparisons.
+    pub fn set_hold_dead_columns(&mut self, on: bool) {
+        self.options.hold_dead_columns = on;
     }
 
     /// Secant updates per parameter before the descents' adaptive model choice may switch
