@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
 # Regenerates the paper's Figures 8 and 12 (renderings of the tuning and cross brushed metal
 # BRDFs) and Figure 18 (polar plots of measured Cornell paint data with fitted models) into
-# results/fig08-render, results/fig12-render and results/fig18-polar, each with a NOTE.md.
+# results/fig08-render, results/fig12-render and results/fig18-polar.
+#
+# Each directory gets NOTE.generated.md (the figure's description with this run's renderer
+# output, fitted RMSEs and commands), rewritten on every run, and a NOTE.md made from it only
+# when there is none: NOTE.md is the hand-kept note (provenance, what changed, caveats), and
+# a run never overwrites it. Compare the two after a run and carry over what changed.
 #
 # Run from anywhere (it changes to the repository root). The figures take a few seconds; the
 # release build before them up to a couple of minutes when crates changed. Honours
@@ -27,6 +32,15 @@ BIN="${CARGO_TARGET_DIR:-target}/release/brdf-sls"
 # 60% of white at its streak.
 EXPOSURE=1.6
 
+# keep_note DIR: NOTE.md from NOTE.generated.md when DIR has no NOTE.md (never overwritten).
+keep_note() {
+    if [[ -e "$1/NOTE.md" ]]; then
+        echo "kept $1/NOTE.md; this run's text is in $1/NOTE.generated.md"
+    else
+        cp "$1/NOTE.generated.md" "$1/NOTE.md"
+    fi
+}
+
 render_figure() { # NUMBER PARAMS DESCRIPTION_OF_PAPER DESCRIPTION_OF_OURS
     local num=$1 params=$2 paper=$3 ours=$4
     local dir="results/fig${num}-render" png="results/fig${num}-render/fig${num}-${params}.png"
@@ -35,7 +49,7 @@ render_figure() { # NUMBER PARAMS DESCRIPTION_OF_PAPER DESCRIPTION_OF_OURS
     local out
     out=$("${cmd[@]}")
     echo "$out"
-    cat >"$dir/NOTE.md" <<NOTE
+    cat >"$dir/NOTE.generated.md" <<NOTE
 # Figure ${num#0}: the \`${params}\` BRDF rendered
 
 **Paper.** ${paper}
@@ -62,6 +76,7 @@ Command (from the repository root, after \`cargo build --release -p harness\`; t
 brdf-sls render --params ${params} --exposure ${EXPOSURE} --out ${png}
 \`\`\`
 NOTE
+    keep_note "$dir"
 }
 
 render_figure 08 tuning \
@@ -152,7 +167,7 @@ brdf-sls polar ${data} --max-value 1 --show-dropped --incident ${INCIDENT} --rad
 done
 printf '%s\n}\n' "$FITS_JSON" >"$FIG18/fits.json"
 
-cat >"$FIG18/NOTE.md" <<NOTE
+cat >"$FIG18/NOTE.generated.md" <<NOTE
 # Figure 18: measured paint BRDF and fitted Lafortune models in the plane of incidence
 
 **Paper.** Polar plots of the blue latex house paint at 550 nm (Cornell data, values > 1
@@ -203,4 +218,5 @@ Commands (from the repository root; \`scripts/figures-render-polar.sh\` runs the
 \`\`\`
 ${NOTE_CMDS}\`\`\`
 NOTE
+keep_note "$FIG18"
 echo "wrote results/fig08-render, results/fig12-render, $FIG18"
