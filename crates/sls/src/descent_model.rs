@@ -51,8 +51,10 @@ impl DescentModel {
     /// is dead then moves that lobe's parameters, which is how a two-lobe search revives it.
     /// With the library's default hold AED needed 3.6 times the sample-evaluations to RMSE 0.02
     /// on the cross brushed metal instance (median 10.7e6 against 3.0e6; RPLS 2.28e6 against
-    /// 1.92e6) and about the same on the tuning instance (AED 104,518 against 110,347, RPLS
-    /// 710,000 both; `cargo run --release -p sls --example tuning_bench`, 100 and 300 seeds).
+    /// 1.92e6; 100 seeds), while on the one-lobe tuning instance the hold saves AED 6% in the
+    /// median (105,095 against 111,464; 90th percentile 640,557 against 1,144,807) and RPLS 3%
+    /// (710,000 against 730,000; 1000 seeds; `cargo run --release -p sls --example
+    /// tuning_bench -- [--hold-dead-columns]`).
     pub fn options(self) -> Options {
         let options = match self {
             DescentModel::Default => Options::default(),
