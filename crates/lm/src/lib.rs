@@ -61,7 +61,8 @@
 //! (DA7SST's IRC = 5; evaluated only if it predicts more than 1.2 times the reduction obtained,
 //! DG7ITB), and the better of the two is kept. Unlike NL2SOL we try at most one longer step per
 //! iteration, and none once the adaptive model choice may switch models
-//! ([`RadiusUpdate::Nl2sol`] documents why: both measured worse on NIST or MGH). [`RadiusUpdate::Classic`] is the ratio
+//! ([`RadiusUpdate::Nl2sol`] documents why: both measured worse on NIST or MGH).
+//! [`RadiusUpdate::Classic`] is the ratio
 //! rule of the first version (0.1..0.5 after a rejection, halve below ratio 0.25, double above
 //! 0.75).
 //!
@@ -226,13 +227,14 @@
 //!   brushed metal instance needed 9 times the sample-evaluations of the code before these
 //!   changes (same seeds and kernel: median 6.2e6 against 6.9e5, 100 trials of
 //!   `experiments/fig16-synthetic.toml`'s instance, target 0.02), because a lobe that is dead
-//!   on a subsample stays dead for the whole descent, where the garbage moves of the free
-//!   variables used to revive it. The rest of the protection (the QR's rescaling, the gradient
+//!   on a subsample stays dead for the whole descent (the effect is measured; that the
+//!   rounding-sized moves of the free variables used to revive such lobes is our reading of
+//!   it). The rest of the protection (the QR's rescaling, the gradient
 //!   gate on code 4, no stationarity from a non-finite gradient) stays on in every
 //!   configuration, so with dead columns free no success code (3 to 6) fires away from a
 //!   stationary point; but the steps can be wasted on the dead variables and end with code 7
 //!   there (`tests/dead_columns.rs` checks both configurations). In a search code 7 only
-//!   shrinks the subsample, so the searches trade it for the revived lobes; a library user
+//!   shrinks the subsample, so the searches trade it for the measured speed; a library user
 //!   keeps the hold.
 //! - **Interrupts**: [`Problem::should_stop`] is asked once per iteration and after every
 //!   failed evaluation, and ends the solve with [`Outcome::Interrupted`] (code 11, NL2SOL's

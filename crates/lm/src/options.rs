@@ -104,11 +104,11 @@ pub struct Options {
     /// variables by amounts set by rounding: on a 25-row problem with two dead exponential
     /// terms the solver then never fixed the live variable and could end with singular
     /// convergence (code 7) far from a stationary point; it never returned a success code
-    /// (`tests/dead_columns.rs`). Inside the searches those moves are what revives a dead lobe
-    /// of a two-lobe fit, and a code 7 only means "shrink the subsample": with the hold, AED
-    /// needed 3.6 times the sample-evaluations on the cross brushed metal instance (median
-    /// 10.7e6 against 3.0e6, 100 seeds, target 0.02) and RPLS 1.19 times, so the searches'
-    /// descents run with it off (`sls::DescentModel::options`).
+    /// (`tests/dead_columns.rs`). Inside the searches those moves seem to be what revives a
+    /// dead lobe of a two-lobe fit, and a code 7 only means "shrink the subsample": with the
+    /// hold, AED needed 3.6 times the sample-evaluations on the cross brushed metal instance
+    /// (median 10.7e6 against 3.0e6, 100 seeds, target 0.02) and RPLS 1.19 times, so the
+    /// searches' descents run with it off (`sls::DescentModel::options`).
     pub hold_dead_columns: bool,
     /// Quadratic model (default [`StepModel::Adaptive`] after [`Options::adaptive_delay`];
     /// [`StepModel::GaussNewton`] never uses the augmented model: see the crate docs).

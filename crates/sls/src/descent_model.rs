@@ -48,7 +48,8 @@ impl DescentModel {
     ///
     /// Every choice leaves numerically dead columns free
     /// ([`Options::hold_dead_columns`] off, as N2FB does): a descent on a subsample where a lobe
-    /// is dead then moves that lobe's parameters, which is how a two-lobe search revives it.
+    /// is dead then moves that lobe's parameters, which seems to be how a two-lobe search
+    /// revives it (the effect below is measured, the mechanism inferred).
     /// With the library's default hold AED needed 3.6 times the sample-evaluations to RMSE 0.02
     /// on the cross brushed metal instance (median 10.7e6 against 3.0e6; RPLS 2.28e6 against
     /// 1.92e6; 100 seeds), while on the one-lobe tuning instance the hold saves AED 6% in the
