@@ -49,8 +49,10 @@ fn main() {
             watch(git_dir.join(head_ref));
         }
     }
+    // The workspace's crates, whole (sources, manifests, tests: what `-modified` looks at);
+    // not all of crates/, whose Python crate keeps its own target/ there.
     for p in ["model", "lm", "sls", "graphics", "stress", "harness"] {
-        watch(root.join("crates").join(p).join("src"));
+        watch(root.join("crates").join(p));
     }
     for p in ["Cargo.toml", "Cargo.lock"] {
         watch(root.join(p));

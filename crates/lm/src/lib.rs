@@ -225,8 +225,9 @@
 //!   [`Options::n2fb`], off in the searches' descents; N2FB has no such rule). Found when
 //!   the paper's figures were re-run on 2026-12-02: with the hold, AED on the two-lobe cross
 //!   brushed metal instance needed 9 times the sample-evaluations of the code before these
-//!   changes (same seeds and kernel: median 6.2e6 against 6.9e5, 100 trials of
-//!   `experiments/fig16-synthetic.toml`'s instance, target 0.02), because a lobe that is dead
+//!   changes (same seeds: median 6.2e6 with the avx2 kernel against 6.9e5 with the old code's
+//!   own kernel choice, 100 trials of `experiments/fig16-synthetic.toml`'s instance, target
+//!   0.02), because a lobe that is dead
 //!   on a subsample stays dead for the whole descent (the effect is measured; that the
 //!   rounding-sized moves of the free variables used to revive such lobes is our reading of
 //!   it). The rest of the protection (the QR's rescaling, the gradient

@@ -10,7 +10,7 @@
 
 #![allow(clippy::needless_range_loop)]
 
-use bounded_lm::{Options, Outcome, Problem, Solver, StepModel};
+use bounded_lm::{Options, Outcome, Problem, Report, Solver, StepModel};
 
 const M: usize = 25;
 
@@ -81,23 +81,32 @@ fn f_at(prob: &mut DeadLobes, x: &[f64]) -> f64 {
     0.5 * r.iter().map(|v| v * v).sum::<f64>()
 }
 
+/// The box `[kd, c1, n1, c2, n2]` of both tests.
+const LOWER: [f64; 5] = [0.0, -1.5, 0.0, -1.5, 0.0];
+const UPPER: [f64; 5] = [1.0, 1.5, 400.0, 1.5, 400.0];
+/// Exponent pairs `(n1, n2)` of the starts `[0.5, 0.04, n1, -0.14, n2]`: both lobes dead.
+const DEAD_EXPONENTS: [(f64, f64); 3] = [(340.0, 345.0), (300.0, 352.0), (350.0, 350.5)];
+
+/// Solves from the start with exponents `(n1, n2)`; the report and the final point.
+fn solve_from(prob: &mut DeadLobes, n1: f64, n2: f64, opt: &Options) -> (Report, [f64; 5]) {
+    let mut x = [0.5, 0.04, n1, -0.14, n2];
+    let rep = Solver::new()
+        .solve(prob, &mut x, &LOWER, &UPPER, opt)
+        .unwrap();
+    (rep, x)
+}
+
 #[test]
 fn dead_lobe_columns_do_not_fake_convergence() {
-    let lower = [0.0, -1.5, 0.0, -1.5, 0.0];
-    let upper = [1.0, 1.5, 400.0, 1.5, 400.0];
     for model in [StepModel::GaussNewton, StepModel::Adaptive] {
-        for (n1, n2) in [(340.0, 345.0), (300.0, 352.0), (350.0, 350.5)] {
+        for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();
-            let x0 = [0.5, 0.04, n1, -0.14, n2];
-            let f0 = f_at(&mut prob, &x0);
-            let mut x = x0;
+            let f0 = f_at(&mut prob, &[0.5, 0.04, n1, -0.14, n2]);
             let opt = Options {
                 model,
                 ..Options::default()
             };
-            let rep = Solver::new()
-                .solve(&mut prob, &mut x, &lower, &upper, &opt)
-                .unwrap();
+            let (rep, x) = solve_from(&mut prob, n1, n2, &opt);
             let f = f_at(&mut prob, &x);
             let cos_kd = cosine(&mut prob, &x, 0);
             assert!(x.iter().all(|v| v.is_finite()), "{model:?} {x:?}");
@@ -125,20 +134,15 @@ fn dead_lobe_columns_do_not_fake_convergence() {
 /// live `kd` is far from stationary, but never with a success code (3 to 6) there.
 #[test]
 fn free_dead_columns_waste_steps_but_never_claim_success() {
-    let lower = [0.0, -1.5, 0.0, -1.5, 0.0];
-    let upper = [1.0, 1.5, 400.0, 1.5, 400.0];
     for model in [StepModel::GaussNewton, StepModel::Adaptive] {
         let opt = Options {
             model,
             hold_dead_columns: false,
             ..Options::default()
         };
-        for (n1, n2) in [(340.0, 345.0), (300.0, 352.0), (350.0, 350.5)] {
+        for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();
-            let mut x = [0.5, 0.04, n1, -0.14, n2];
-            let rep = Solver::new()
-                .solve(&mut prob, &mut x, &lower, &upper, &opt)
-                .unwrap();
+            let (rep, x) = solve_from(&mut prob, n1, n2, &opt);
             let cos_kd = cosine(&mut prob, &x, 0);
             assert!(x.iter().all(|v| v.is_finite()), "{x:?}");
             assert!(

@@ -71,7 +71,7 @@ fn parse() -> Result<Args, String> {
         secant_scaling: bounded_lm::Options::default().secant_scaling,
         secant_delay: bounded_lm::Options::default().secant_scaling_delay,
         adaptive_delay: bounded_lm::Options::default().adaptive_delay,
-        hold_dead_columns: false,
+        hold_dead_columns: sls::DescentModel::default().options().hold_dead_columns,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
