@@ -185,9 +185,21 @@
 //!   has scaled length LMAXS = 1; when the Jacobian columns are huge, `||D x|| >> 1` and that
 //!   step is a round-off change of x, so PREDUC is tiny relative to f although the gradient is
 //!   large. MGH's Jennrich and Sampson from 10 x0 (f = 2.8e34) and Chebyquad (n = 8) from 10 x0
-//!   returned code 7 after 1 iteration and 2 evaluations at the start. The test step is now at
-//!   least `||D x||` long, so code 7 no longer fires there; false convergence (code 8, an honest
-//!   failure code) does, because the first step is below RELDX = 100 eps.
+//!   returned code 7 after 1 iteration and 2 evaluations at the start. By default the test
+//!   step is now at least `||D x||` long ([`Options::singular_radius_at_least_x`]), so code 7
+//!   no longer fires there; false convergence (code 8, an honest failure code) does, because
+//!   the first step is below RELDX = 100 eps. **The searches' descents use N2FB's test**
+//!   (the option off, `sls::DescentModel::options`): there a code 7 at a hopeless start ends
+//!   the descent at once, which is cheaper than letting it run. Measured with one build
+//!   (`tuning_bench`, the option off against `--singular-radius-at-least-x`): on the tuning
+//!   instance (1000 seeds, target 0.11) AED's median sample-evaluations 111,464 -> 108,292 and
+//!   90th percentile 1,144,807 -> 437,236, RPLS 730,000 -> 700,000 (p90 2,990,000 ->
+//!   2,570,000); on the two-lobe cross instance without noise (100 seeds, target 0.02, 2 s)
+//!   AED 2,007,622 -> 1,250,764 (99 -> 100 of 100 reached), RPLS 1,940,000 -> 1,800,000; with
+//!   noise (sigma 0.1, target 0.1, 2 s) RPLS 2,160,000 -> 1,870,000 (100 seeds) but AED
+//!   reached the target in 162 instead of 175 of 300 trials within the cutoff, the one case
+//!   that got worse. `tests/robustness.rs` checks that N2FB's test ends the steep exponential
+//!   and Jennrich-Sampson from 10 x0 with code 7 at the start and the default does not.
 //!   [`Options::lift_round_off_radius`] lifts such a round-off first radius to
 //!   `sqrt(eps) ||D x||`, and then both are solved; it is off by default because inside the
 //!   searches these are hopeless random starts that should end at once: with it always on,
@@ -282,8 +294,8 @@
 //! - **7 singular convergence**: `PREDUC <= singular_tol * |f0|` and either `||D s|| >
 //!   singular_radius` or the step was the Newton step; otherwise the step is re-solved at radius
 //!   `singular_radius` *without evaluating f* and 7 is returned if that step's PREDUC is still
-//!   `<= singular_tol * |f0|`; here the test radius is `max(singular_radius, ||D x||)` (see
-//!   "Robustness");
+//!   `<= singular_tol * |f0|`; by default the test radius here is `max(singular_radius,
+//!   ||D x||)` ([`Options::singular_radius_at_least_x`]; see "Robustness");
 //! - **6 absolute function convergence**: `f < abs_function_tol` after an accepted step (or at
 //!   the start);
 //! - **8 false convergence**: after a rejected or poor (ratio < 0.1) step, RELDX `<=

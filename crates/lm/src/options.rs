@@ -64,6 +64,16 @@ pub struct Options {
     pub initial_radius: f64,
     /// Radius of the singular-convergence test step (LMAXS, default 1).
     pub singular_radius: f64,
+    /// Make the singular-convergence test step at least as long as x itself,
+    /// `max(singular_radius, ||D x||)` (default true, also in [`Options::n2fb`]; ours: N2FB
+    /// tests at LMAXS alone). Where huge Jacobian columns make a step of scaled length LMAXS a
+    /// round-off change of x, N2FB's test finds no predicted reduction and returns singular
+    /// convergence (code 7) while the projected gradient is still large (MGH's
+    /// Jennrich-Sampson from 10 x0 after 2 evaluations, `tests/robustness.rs`). Inside the
+    /// searches a code 7 only shrinks the subsample or ends a hopeless descent early, and the
+    /// longer test step keeps poor descents running: the searches turn it off
+    /// (`sls::DescentModel::options`; measurements in the crate docs, "Robustness").
+    pub singular_radius_at_least_x: bool,
     /// Raise a first trust radius that is a round-off change of x (`LMAX0 < 16 eps ||D x||`,
     /// from starts with huge Jacobian columns) to `sqrt(eps) ||D x||` (default false, as N2FB).
     /// On: MGH's Jennrich-Sampson and Chebyquad from 10 x0 are solved instead of ending in
@@ -127,6 +137,7 @@ impl Default for Options {
             singular_tol: 1e-10,
             initial_radius: 1.0,
             singular_radius: 1.0,
+            singular_radius_at_least_x: true,
             lift_round_off_radius: false,
             secant_scaling: true,
             secant_scaling_delay: 2,

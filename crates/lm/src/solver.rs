@@ -1893,9 +1893,13 @@ impl<'o> Descent<'o> {
             // N2FB tests a step of scaled length LMAXS. When the scaling makes that step tiny
             // next to x itself (huge Jacobian columns, ||D x|| >> LMAXS), a small PREDUC says
             // nothing about singularity: the region is just small and the projected gradient
-            // may still be large. So the test step is at least as long as x (our change; see
-            // the crate docs, "Singular convergence").
-            let test_radius = opt.singular_radius.max(ws.scaled_norm_x());
+            // may still be large. So by default the test step is at least as long as x (our
+            // change, Options::singular_radius_at_least_x; see the crate docs, "Robustness").
+            let test_radius = if opt.singular_radius_at_least_x {
+                opt.singular_radius.max(ws.scaled_norm_x())
+            } else {
+                opt.singular_radius
+            };
             if info.dnorm > test_radius || info.newton {
                 return Some(Outcome::SingularConvergence);
             }

@@ -96,6 +96,42 @@ fn no_singular_convergence_while_the_gradient_is_large() {
     assert!(rep.iterations > 1 && rep.f < 1e3, "{rep:?}");
 }
 
+/// N2FB's own singular-convergence test (a test step of scaled length LMAXS alone, as the
+/// searches run it) fires at a round-off step far from a stationary point; the default's test
+/// step of at least `||D x||` does not (the steep exponential is then solved, see above).
+#[test]
+fn the_singular_test_step_at_least_x_is_what_stops_code_7_at_the_start() {
+    code_7_at_the_start_only_with_n2fb_test_step(&mut SteepExp, &[1.0, 30.0]);
+    let mut jennrich = Mgh::new(Kind::JennrichSampson, 2, 10);
+    let x0 = jennrich.start(10.0);
+    code_7_at_the_start_only_with_n2fb_test_step(&mut jennrich, &x0);
+}
+
+fn code_7_at_the_start_only_with_n2fb_test_step(prob: &mut impl Problem, x0: &[f64]) {
+    let n2fb_test = Options {
+        singular_radius_at_least_x: false,
+        ..Options::default()
+    };
+    let mut solve = |x: &mut [f64], options: &Options| {
+        let n = x.len();
+        Solver::new()
+            .solve(prob, x, &vec![-INF; n], &vec![INF; n], options)
+            .unwrap()
+    };
+    let mut plain_x = x0.to_vec();
+    let plain = solve(&mut plain_x, &n2fb_test);
+    let mut x = x0.to_vec();
+    let default = solve(&mut x, &Options::default());
+    assert_eq!(plain.outcome, Outcome::SingularConvergence, "{plain:?}");
+    assert!(plain.residual_evaluations <= 3, "{plain:?}");
+    let (g0, g) = (gradient_norm(prob, x0), gradient_norm(prob, &plain_x));
+    assert!(
+        g > 1e-3 * g0,
+        "{plain:?} at {plain_x:?}: gradient {g} (start {g0})"
+    );
+    assert_ne!(default.outcome, Outcome::SingularConvergence, "{default:?}");
+}
+
 /// Rosenbrock's residuals `(10 (x2 - x1^2), 1 - x1)`.
 fn rosenbrock(x: &[f64], r: &mut [f64]) -> bool {
     r[0] = 10.0 * (x[1] - x[0] * x[0]);

@@ -6,7 +6,7 @@
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
-//!     [--hold-dead-columns]
+//!     [--hold-dead-columns] [--singular-radius-at-least-x]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
 //! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
@@ -15,7 +15,10 @@
 //! `--secant-delay K` sets after how many secant updates per parameter it enters
 //! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule).
 //! `--hold-dead-columns` holds numerically dead variables in the descents, as the library's
-//! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
+//! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free).
+//! `--singular-radius-at-least-x` makes the singular-convergence test step at least `||D x||`
+//! long, as the library's default does (`bounded_lm::Options::singular_radius_at_least_x`; the
+//! searches use N2FB's LMAXS alone). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
 //! only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -50,6 +53,7 @@ struct Args {
     secant_delay: usize,
     adaptive_delay: usize,
     hold_dead_columns: bool,
+    singular_radius_at_least_x: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -72,6 +76,9 @@ fn parse() -> Result<Args, String> {
         secant_delay: bounded_lm::Options::default().secant_scaling_delay,
         adaptive_delay: bounded_lm::Options::default().adaptive_delay,
         hold_dead_columns: sls::DescentModel::default().options().hold_dead_columns,
+        singular_radius_at_least_x: sls::DescentModel::default()
+            .options()
+            .singular_radius_at_least_x,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -89,6 +96,10 @@ fn parse() -> Result<Args, String> {
         }
         if flag == "--hold-dead-columns" {
             a.hold_dead_columns = true;
+            continue;
+        }
+        if flag == "--singular-radius-at-least-x" {
+            a.singular_radius_at_least_x = true;
             continue;
         }
         if flag == "--no-secant-scaling" {
@@ -278,6 +289,7 @@ fn main() {
                 ctx.set_secant_scaling(args.secant_scaling, args.secant_delay);
                 ctx.set_adaptive_delay(args.adaptive_delay);
                 ctx.set_hold_dead_columns(args.hold_dead_columns);
+                ctx.set_singular_radius_at_least_x(args.singular_radius_at_least_x);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

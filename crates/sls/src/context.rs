@@ -298,6 +298,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.hold_dead_columns = on;
     }
 
+    /// Whether the descents' singular-convergence test step is at least `||D x||` long
+    /// (`bounded_lm::Options::singular_radius_at_least_x`; off in the searches, see
+    /// [`DescentModel::options`]). For comparisons.
+    pub fn set_singular_radius_at_least_x(&mut self, on: bool) {
+        self.options.singular_radius_at_least_x = on;
+    }
+
     /// Secant updates per parameter before the descents' adaptive model choice may switch
     /// to the augmented model (`bounded_lm::Options::adaptive_delay`). For comparisons.
     pub fn set_adaptive_delay(&mut self, delay: usize) {
