@@ -3,12 +3,14 @@
 //!
 //! `cargo run -p bounded-lm --release --example mgh_table -- crates/lm/MGH.md
 //! [default|gauss-newton|adaptive|n2fb] [lift] [no-secant] [classic] [adaptive-delay=K]
-//! [secant-delay=K]`
+//! [secant-delay=K] [free-dead] [n2fb-singular-test]`
 //! (the second argument overrides the default step model: `adaptive` is NL2SOL's adaptive
 //! choice from the first secant update (`Options::adaptive_delay` 0), `n2fb` selects
 //! `Options::n2fb()`; `lift` sets `Options::lift_round_off_radius`, `no-secant` clears
 //! `Options::secant_scaling`, `classic` selects `RadiusUpdate::Classic`, and the `KEY=K` flags
-//! set `Options::adaptive_delay` and `Options::secant_scaling_delay`).
+//! set `Options::adaptive_delay` and `Options::secant_scaling_delay`; `free-dead` clears
+//! `Options::hold_dead_columns` and `n2fb-singular-test` clears
+//! `Options::singular_radius_at_least_x`, both as the searches' descents run).
 
 #[path = "../tests/common/mgh_run.rs"]
 mod mgh_run;
@@ -31,6 +33,8 @@ fn main() {
             "lift" => options.lift_round_off_radius = true,
             "no-secant" => options.secant_scaling = false,
             "classic" => options.radius_update = bounded_lm::RadiusUpdate::Classic,
+            "free-dead" => options.hold_dead_columns = false,
+            "n2fb-singular-test" => options.singular_radius_at_least_x = false,
             other => {
                 let (key, value) = other.split_once('=').unwrap_or((other, ""));
                 let k = || value.parse().expect("KEY=K with K >= 0");
@@ -38,8 +42,8 @@ fn main() {
                     "adaptive-delay" => options.adaptive_delay = k(),
                     "secant-delay" => options.secant_scaling_delay = k(),
                     _ => panic!(
-                        "unknown flag {other} (lift, no-secant, classic, adaptive-delay=K, \
-                         secant-delay=K)"
+                        "unknown flag {other} (lift, no-secant, classic, free-dead, \
+                         n2fb-singular-test, adaptive-delay=K, secant-delay=K)"
                     ),
                 }
             }
