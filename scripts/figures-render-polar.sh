@@ -100,7 +100,7 @@ render_figure 12 cross \
 # without fitting again (the solver may change; the stored fits are what the figures show).
 #
 # The fits use AED with the stall restart (stall_limit = 10, Figure 16's "AED stall"): the
-# paper's AED can cycle for ever at a candidate with a dead lobe (sls::algorithms::aed docs).
+# paper's AED can spend a whole run at a candidate with a dead lobe (sls::algorithms::aed docs).
 # With git 77ae8bc, 2-lobe Krylon fits of 3 CPU s by the paper's AED stayed at the 1-lobe RMSE
 # 0.026120 for seeds 1 and 8 of 1-8 (seed 8 also with the descents' singular-convergence test
 # of the commit before); with the stall restart both reached the target in under 0.12 s.

@@ -153,8 +153,9 @@ impl Options {
     /// PORT's N2FB configuration: the defaults with NL2SOL's adaptive model choice
     /// ([`StepModel::Adaptive`]) and the secant term in the scaling from the first secant
     /// update ([`Options::secant_scaling`] with no delay), as N2FB always has them. It keeps our
-    /// hold of numerically dead columns ([`Options::hold_dead_columns`]), which N2FB does not
-    /// have, so that its codes stay honest; the searches turn the hold off.
+    /// hold of numerically dead columns ([`Options::hold_dead_columns`]) and our longer
+    /// singular-convergence test step ([`Options::singular_radius_at_least_x`]), which N2FB
+    /// does not have, so that its codes stay honest; the searches turn both off.
     pub fn n2fb() -> Self {
         Self {
             model: StepModel::Adaptive,

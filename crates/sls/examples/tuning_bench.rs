@@ -18,8 +18,8 @@
 //! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free).
 //! `--singular-radius-at-least-x` makes the singular-convergence test step at least `||D x||`
 //! long, as the library's default does (`bounded_lm::Options::singular_radius_at_least_x`; the
-//! searches use N2FB's LMAXS alone). `--no-early-exit` computes every full-data RMSE in full (the trials' decisions are the same;
-//! only the computed rows and the CPU time differ).
+//! searches use N2FB's LMAXS alone). `--no-early-exit` computes every full-data RMSE in full (the
+//! trials' decisions are the same; only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
 //! their defaults, `asa-paper` with the paper's tuned ASA values, and `sa-opt`, `sals-opt`,
