@@ -108,6 +108,11 @@ struct Workspace {
     /// Hold numerically dead variables ([`Options::hold_dead_columns`]; set by each solve).
     hold_dead: bool,
     col_max: Vec<f64>,
+    /// From one pass over a new Jacobian ([`Workspace::survey_jacobian`]): each column's sum
+    /// of squares, its max-abs entry, and `J^T r`.
+    col_sq: Vec<f64>,
+    col_amax: Vec<f64>,
+    jtr: Vec<f64>,
     /// Held variables and the indices of the free ones.
     fixed: Vec<bool>,
     free: Vec<usize>,
@@ -202,6 +207,40 @@ fn triangular_full_rank(t: &[f64], n: usize) -> bool {
     dmax > 0.0 && (0..n).all(|i| t[i * n + i].abs() > QR_RANK_TOL * dmax)
 }
 
+/// `(col . col, col . r, max |col_i|)` in one pass, the dot products accumulated exactly as
+/// [`dot`] does (four lanes over chunks of four, then the tail), so each equals `dot`'s result.
+fn column_survey(col: &[f64], r: &[f64]) -> (f64, f64, f64) {
+    let n = col.len().min(r.len());
+    let (col, r) = (&col[..n], &r[..n]);
+    let (mut sq, mut jr, mut lane_max) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
+    let mut cc = col.chunks_exact(4);
+    let mut cr = r.chunks_exact(4);
+    for (x, y) in (&mut cc).zip(&mut cr) {
+        for k in 0..4 {
+            sq[k] += x[k] * x[k];
+            jr[k] += x[k] * y[k];
+            // A plain comparison (not f64::max, whose NaN rule blocks a vector max) in four
+            // independent lanes; a NaN entry is caught by the sum of squares anyway.
+            let a = x[k].abs();
+            lane_max[k] = if a > lane_max[k] { a } else { lane_max[k] };
+        }
+    }
+    let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
+    let mut amax = lane_max[0]
+        .max(lane_max[1])
+        .max(lane_max[2].max(lane_max[3]));
+    for (x, y) in cc.remainder().iter().zip(cr.remainder()) {
+        sq_tail += x * x;
+        jr_tail += x * y;
+        amax = amax.max(x.abs());
+    }
+    (
+        (sq[0] + sq[2]) + (sq[1] + sq[3]) + sq_tail,
+        (jr[0] + jr[2]) + (jr[1] + jr[3]) + jr_tail,
+        amax,
+    )
+}
+
 /// From a Householder QR done in place (column-major, `ld` rows, `n` columns) and its rotated
 /// right-hand side `Q^T rhs` (length `ld`): the `n x n` upper triangle `r` and the first `n`
 /// entries `c`, zero in the rows from `ld` on (a QR with fewer rows than columns).
@@ -253,6 +292,9 @@ impl Workspace {
             &mut self.cvec,
             &mut self.col_scale,
             &mut self.col_max,
+            &mut self.col_sq,
+            &mut self.col_amax,
+            &mut self.jtr,
             &mut self.y,
             &mut self.ysharp,
             &mut self.secant_w,
@@ -293,6 +335,30 @@ impl Workspace {
         self.secant_updates = 0;
     }
 
+    /// One pass over a new Jacobian, column by column: the sum of squares (for the scaling),
+    /// the max-abs entry (for the dead-column test) and `J^T r` (for the secant update), which
+    /// were four passes over the `m x p` matrix, counting the finiteness check. The sums are
+    /// accumulated exactly as [`dot`] does, so the results are bit for bit those of the
+    /// separate passes. Returns whether every entry is finite: a non-finite entry makes its
+    /// column's sum of squares non-finite; a finite column can overflow that sum only with
+    /// entries above 1e154, and is then checked entry by entry.
+    fn survey_jacobian(&mut self) -> bool {
+        let (m, p) = (self.m, self.p);
+        let r = &self.r[..m];
+        let mut finite = true;
+        for j in 0..p {
+            let col = &self.jac[j * m..(j + 1) * m];
+            let (sq, jr, amax) = column_survey(col, r);
+            self.col_sq[j] = sq;
+            self.jtr[j] = jr;
+            self.col_amax[j] = amax;
+            if !sq.is_finite() && !col.iter().all(|v| v.is_finite()) {
+                finite = false;
+            }
+        }
+        finite
+    }
+
     /// Updates the scaling: `D_i = max(0.6 D_i, ||J_i||_2)` (N2FB's adaptive rule, but with the
     /// column 2-norm of the original NL2SOL instead of the column max); a column whose norm is
     /// below 1e-6 uses 1 instead, so a dead parameter keeps a sane scale. Measured on NIST (GN
@@ -301,9 +367,10 @@ impl Workspace {
     /// becomes `sqrt(||J_i||^2 + S_ii)` where `S_ii > 0` (NL2SOL's DUPDAT: the diagonal of the
     /// augmented Hessian `J^T J + S`).
     fn update_scaling(&mut self, first: bool, secant: bool) {
-        let (m, p) = (self.m, self.p);
+        let p = self.p;
         for j in 0..p {
-            let mut cn = norm(&self.jac[j * m..(j + 1) * m]);
+            // The column's 2-norm, from the survey of this Jacobian (the same sum as `norm`).
+            let mut cn = self.col_sq[j].sqrt();
             let sii = self.s_mat[j * p + j];
             if secant && sii > 0.0 {
                 cn = (cn * cn + sii).sqrt();
@@ -348,11 +415,9 @@ impl Workspace {
         let (m, p) = (self.m, self.p);
         let mut max_scaled = 0.0f64;
         for j in 0..p {
-            // max |J_ij| / D_j is exactly max |J_ij / D_j| (rounding is monotone), as below.
-            let amax = self.jac[j * m..(j + 1) * m]
-                .iter()
-                .fold(0.0f64, |a, v| a.max(v.abs()));
-            self.col_max[j] = amax * (1.0 / self.d[j]);
+            // max |J_ij| / D_j is exactly max |J_ij / D_j| (rounding is monotone), as below;
+            // max |J_ij| comes from the survey of this Jacobian.
+            self.col_max[j] = self.col_amax[j] * (1.0 / self.d[j]);
             max_scaled = max_scaled.max(self.col_max[j]);
         }
         for j in 0..p {
@@ -1669,8 +1734,7 @@ impl<'o> Descent<'o> {
             jt_vec(&ws.jac, &ws.r, m, p, &mut ws.ysharp);
         }
         self.counts.jacobians += 1;
-        let ok = problem.jacobian(&ws.x[..p], &mut ws.jac[..m * p])
-            && ws.jac[..m * p].iter().all(|v| v.is_finite());
+        let ok = problem.jacobian(&ws.x[..p], &mut ws.jac[..m * p]) && ws.survey_jacobian();
         if !ok {
             if self.counts.iterations == 0 {
                 return Err(SolveError::StartNotEvaluable);
@@ -1692,7 +1756,7 @@ impl<'o> Descent<'o> {
         if keep_secant && secant_scaling {
             // The scaling needs the updated S, so S is updated before the factorization, from
             // g = J^T r computed directly (as in NL2SOL, where DUPDAT follows the secant update).
-            jt_vec(&ws.jac, &ws.r, m, p, &mut ws.g);
+            ws.g[..p].copy_from_slice(&ws.jtr[..p]);
             ws.secant_update_from_gradients();
         }
         // The secant term enters the scaling once S has had `secant_scaling_delay` updates per
@@ -1987,6 +2051,37 @@ fn iterate<P: Problem>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fused survey must give exactly the separate passes' numbers (the goldens depend on
+    /// it), for every tail length, and flag a non-finite column through its sum of squares.
+    #[test]
+    fn column_survey_equals_the_separate_passes_bit_for_bit() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((state % 7) as i32)
+        };
+        for n in [0, 1, 3, 4, 5, 25, 131] {
+            let col: Vec<f64> = (0..n).map(|_| next()).collect();
+            let r: Vec<f64> = (0..n).map(|_| next()).collect();
+            let (sq, jr, amax) = column_survey(&col, &r);
+            assert_eq!(sq.to_bits(), dot(&col, &col).to_bits(), "n = {n}");
+            assert_eq!(sq.sqrt().to_bits(), norm(&col).to_bits(), "n = {n}");
+            assert_eq!(jr.to_bits(), dot(&col, &r).to_bits(), "n = {n}");
+            let expected = col.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert_eq!(amax.to_bits(), expected.to_bits(), "n = {n}");
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut col = vec![1.0; 9];
+            col[6] = bad;
+            assert!(!column_survey(&col, &[0.5; 9]).0.is_finite(), "{bad}");
+        }
+        // Finite entries whose squares overflow: the sum is infinite, the entries are not.
+        let (sq, _, amax) = column_survey(&[1e200, -3.0], &[1.0, 1.0]);
+        assert!(sq.is_infinite() && amax == 1e200);
+    }
 
     /// A deterministic upper-triangular `n x n` matrix whose rows from `k` on are zero (what the
     /// QR of a `k`-row Jacobian gives), and a right-hand side zero from `k` on.
