@@ -23,6 +23,41 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
 }
 
+/// `(col . col, col . r, max |col_i|)` in one pass, the dot products accumulated exactly as
+/// [`dot`] above does (four lanes over chunks of four, then the tail), so each equals `dot`'s
+/// result; a change to one must be made to both (the test below compares the bits).
+pub(crate) fn column_survey(col: &[f64], r: &[f64]) -> (f64, f64, f64) {
+    let n = col.len().min(r.len());
+    let (col, r) = (&col[..n], &r[..n]);
+    let (mut sq, mut jr, mut lane_max) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
+    let mut cc = col.chunks_exact(4);
+    let mut cr = r.chunks_exact(4);
+    for (x, y) in (&mut cc).zip(&mut cr) {
+        for k in 0..4 {
+            sq[k] += x[k] * x[k];
+            jr[k] += x[k] * y[k];
+            // A plain comparison (not f64::max, whose NaN rule blocks a vector max) in four
+            // independent lanes; a NaN entry is caught by the sum of squares anyway.
+            let a = x[k].abs();
+            lane_max[k] = if a > lane_max[k] { a } else { lane_max[k] };
+        }
+    }
+    let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
+    let mut amax = lane_max[0]
+        .max(lane_max[1])
+        .max(lane_max[2].max(lane_max[3]));
+    for (x, y) in cc.remainder().iter().zip(cr.remainder()) {
+        sq_tail += x * x;
+        jr_tail += x * y;
+        amax = amax.max(x.abs());
+    }
+    (
+        (sq[0] + sq[2]) + (sq[1] + sq[3]) + sq_tail,
+        (jr[0] + jr[2]) + (jr[1] + jr[3]) + jr_tail,
+        amax,
+    )
+}
+
 /// Euclidean norm (no overflow protection is needed: inputs are scaled steps and gradients).
 #[inline]
 pub(crate) fn norm(a: &[f64]) -> f64 {
@@ -184,6 +219,37 @@ pub(crate) fn backward_solve(l: &[f64], n: usize, b: &mut [f64]) {
 mod tests {
     use super::*;
     use crate::qr::householder_qr;
+
+    /// The fused survey must give exactly the separate passes' numbers (the goldens depend on
+    /// it), for every tail length, and flag a non-finite column through its sum of squares.
+    #[test]
+    fn column_survey_equals_the_separate_passes_bit_for_bit() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((state % 7) as i32)
+        };
+        for n in [0, 1, 3, 4, 5, 25, 131] {
+            let col: Vec<f64> = (0..n).map(|_| next()).collect();
+            let r: Vec<f64> = (0..n).map(|_| next()).collect();
+            let (sq, jr, amax) = column_survey(&col, &r);
+            assert_eq!(sq.to_bits(), dot(&col, &col).to_bits(), "n = {n}");
+            assert_eq!(sq.sqrt().to_bits(), norm(&col).to_bits(), "n = {n}");
+            assert_eq!(jr.to_bits(), dot(&col, &r).to_bits(), "n = {n}");
+            let expected = col.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert_eq!(amax.to_bits(), expected.to_bits(), "n = {n}");
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut col = vec![1.0; 9];
+            col[6] = bad;
+            assert!(!column_survey(&col, &[0.5; 9]).0.is_finite(), "{bad}");
+        }
+        // Finite entries whose squares overflow: the sum is infinite, the entries are not.
+        let (sq, _, amax) = column_survey(&[1e200, -3.0], &[1.0, 1.0]);
+        assert!(sq.is_infinite() && amax == 1e200);
+    }
 
     #[test]
     fn cholesky_solves_spd_system() {

@@ -9,8 +9,8 @@
 //! (Dennis, Gay and Welsch 1981; Gay 1983): RADFAC, RADINC, PREDUC, NREDUC, RELDX, STPPAR.
 
 use crate::linalg::{
-    backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm, shifted_triangular,
-    sym_mat_vec, upper_solve, upper_transpose_solve,
+    backward_solve, cholesky_shifted, column_survey, dot, forward_solve, jt_vec, norm,
+    shifted_triangular, sym_mat_vec, upper_solve, upper_transpose_solve,
 };
 use crate::qr::{TALL_QR_MIN_ROWS, householder_qr, tall_qr, tall_qr_scratch_len};
 use crate::{Options, Outcome, Problem, RadiusUpdate, Report, SolveError, StepModel};
@@ -205,40 +205,6 @@ fn grow(v: &mut Vec<f64>, n: usize) {
 fn triangular_full_rank(t: &[f64], n: usize) -> bool {
     let dmax = (0..n).fold(0.0f64, |a, i| a.max(t[i * n + i].abs()));
     dmax > 0.0 && (0..n).all(|i| t[i * n + i].abs() > QR_RANK_TOL * dmax)
-}
-
-/// `(col . col, col . r, max |col_i|)` in one pass, the dot products accumulated exactly as
-/// [`dot`] does (four lanes over chunks of four, then the tail), so each equals `dot`'s result.
-fn column_survey(col: &[f64], r: &[f64]) -> (f64, f64, f64) {
-    let n = col.len().min(r.len());
-    let (col, r) = (&col[..n], &r[..n]);
-    let (mut sq, mut jr, mut lane_max) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
-    let mut cc = col.chunks_exact(4);
-    let mut cr = r.chunks_exact(4);
-    for (x, y) in (&mut cc).zip(&mut cr) {
-        for k in 0..4 {
-            sq[k] += x[k] * x[k];
-            jr[k] += x[k] * y[k];
-            // A plain comparison (not f64::max, whose NaN rule blocks a vector max) in four
-            // independent lanes; a NaN entry is caught by the sum of squares anyway.
-            let a = x[k].abs();
-            lane_max[k] = if a > lane_max[k] { a } else { lane_max[k] };
-        }
-    }
-    let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
-    let mut amax = lane_max[0]
-        .max(lane_max[1])
-        .max(lane_max[2].max(lane_max[3]));
-    for (x, y) in cc.remainder().iter().zip(cr.remainder()) {
-        sq_tail += x * x;
-        jr_tail += x * y;
-        amax = amax.max(x.abs());
-    }
-    (
-        (sq[0] + sq[2]) + (sq[1] + sq[3]) + sq_tail,
-        (jr[0] + jr[2]) + (jr[1] + jr[3]) + jr_tail,
-        amax,
-    )
 }
 
 /// From a Householder QR done in place (column-major, `ld` rows, `n` columns) and its rotated
@@ -2051,37 +2017,6 @@ fn iterate<P: Problem>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The fused survey must give exactly the separate passes' numbers (the goldens depend on
-    /// it), for every tail length, and flag a non-finite column through its sum of squares.
-    #[test]
-    fn column_survey_equals_the_separate_passes_bit_for_bit() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 10f64.powi((state % 7) as i32)
-        };
-        for n in [0, 1, 3, 4, 5, 25, 131] {
-            let col: Vec<f64> = (0..n).map(|_| next()).collect();
-            let r: Vec<f64> = (0..n).map(|_| next()).collect();
-            let (sq, jr, amax) = column_survey(&col, &r);
-            assert_eq!(sq.to_bits(), dot(&col, &col).to_bits(), "n = {n}");
-            assert_eq!(sq.sqrt().to_bits(), norm(&col).to_bits(), "n = {n}");
-            assert_eq!(jr.to_bits(), dot(&col, &r).to_bits(), "n = {n}");
-            let expected = col.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            assert_eq!(amax.to_bits(), expected.to_bits(), "n = {n}");
-        }
-        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            let mut col = vec![1.0; 9];
-            col[6] = bad;
-            assert!(!column_survey(&col, &[0.5; 9]).0.is_finite(), "{bad}");
-        }
-        // Finite entries whose squares overflow: the sum is infinite, the entries are not.
-        let (sq, _, amax) = column_survey(&[1e200, -3.0], &[1.0, 1.0]);
-        assert!(sq.is_infinite() && amax == 1e200);
-    }
 
     /// A deterministic upper-triangular `n x n` matrix whose rows from `k` on are zero (what the
     /// QR of a `k`-row Jacobian gives), and a right-hand side zero from `k` on.

@@ -82,36 +82,20 @@ fn parse() -> Result<Args, String> {
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
-        if flag == "--raw-exponent" {
-            a.raw_exponent = true;
-            continue;
-        }
-        if flag == "--overshoot" {
-            a.overshoot = true;
-            continue;
-        }
-        if flag == "--gauss-newton" {
-            a.gauss_newton = true;
-            continue;
-        }
-        if flag == "--hold-dead-columns" {
-            a.hold_dead_columns = true;
-            continue;
-        }
-        if flag == "--singular-radius-at-least-x" {
-            a.singular_radius_at_least_x = true;
-            continue;
-        }
-        if flag == "--no-secant-scaling" {
-            a.secant_scaling = false;
-            continue;
-        }
-        if flag == "--no-early-exit" {
-            a.early_exit = false;
-            continue;
-        }
-        if flag == "--verbose" {
-            a.verbose = true;
+        // Switches take no value: each sets one field.
+        let switch = match flag.as_str() {
+            "--raw-exponent" => Some((&mut a.raw_exponent, true)),
+            "--overshoot" => Some((&mut a.overshoot, true)),
+            "--gauss-newton" => Some((&mut a.gauss_newton, true)),
+            "--hold-dead-columns" => Some((&mut a.hold_dead_columns, true)),
+            "--singular-radius-at-least-x" => Some((&mut a.singular_radius_at_least_x, true)),
+            "--no-secant-scaling" => Some((&mut a.secant_scaling, false)),
+            "--no-early-exit" => Some((&mut a.early_exit, false)),
+            "--verbose" => Some((&mut a.verbose, true)),
+            _ => None,
+        };
+        if let Some((field, value)) = switch {
+            *field = value;
             continue;
         }
         let value = it.next().ok_or(format!("{flag} needs a value"))?;

@@ -55,7 +55,8 @@ impl DescentModel {
     /// 1.92e6; 100 seeds), while on the one-lobe tuning instance the hold saves AED 6% in the
     /// median (105,095 against 111,464; 90th percentile 640,557 against 1,144,807) and RPLS 3%
     /// (710,000 against 730,000; 1000 seeds; `cargo run --release -p sls --example
-    /// tuning_bench -- [--hold-dead-columns]`).
+    /// tuning_bench -- [--hold-dead-columns]`). These were measured with the library's
+    /// singular-convergence test step, before the searches took N2FB's (below).
     ///
     /// Every choice also runs N2FB's singular-convergence test, a test step of scaled length
     /// LMAXS alone ([`Options::singular_radius_at_least_x`] off): it can end a descent from a
@@ -117,12 +118,12 @@ mod tests {
         let e = "port".parse::<DescentModel>().unwrap_err();
         assert!(e.contains("`port`") && e.contains("gauss-newton"), "{e}");
         assert_eq!("n2fb".parse::<DescentModel>(), Ok(DescentModel::N2fb));
-        let free_dead = Options {
+        let searches = Options {
             hold_dead_columns: false,
             singular_radius_at_least_x: false,
             ..Options::default()
         };
-        assert_eq!(DescentModel::Default.options(), free_dead);
+        assert_eq!(DescentModel::Default.options(), searches);
         assert_eq!(
             DescentModel::N2fb.options(),
             Options {
