@@ -9,8 +9,8 @@
 //! (Dennis, Gay and Welsch 1981; Gay 1983): RADFAC, RADINC, PREDUC, NREDUC, RELDX, STPPAR.
 
 use crate::linalg::{
-    backward_solve, cholesky_shifted, column_survey, dot, forward_solve, jt_vec, norm,
-    shifted_triangular, sym_mat_vec, upper_solve, upper_transpose_solve,
+    backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm, shifted_triangular,
+    survey_columns, sym_mat_vec, upper_solve, upper_transpose_solve,
 };
 use crate::qr::{TALL_QR_MIN_ROWS, householder_qr, tall_qr, tall_qr_scratch_len};
 use crate::{Options, Outcome, Problem, RadiusUpdate, Report, SolveError, StepModel};
@@ -310,19 +310,21 @@ impl Workspace {
     /// entries above 1e154, and is then checked entry by entry.
     fn survey_jacobian(&mut self) -> bool {
         let (m, p) = (self.m, self.p);
-        let r = &self.r[..m];
-        let mut finite = true;
-        for j in 0..p {
-            let col = &self.jac[j * m..(j + 1) * m];
-            let (sq, jr, amax) = column_survey(col, r);
-            self.col_sq[j] = sq;
-            self.jtr[j] = jr;
-            self.col_amax[j] = amax;
-            if !sq.is_finite() && !col.iter().all(|v| v.is_finite()) {
-                finite = false;
-            }
-        }
-        finite
+        let (jac, r) = (&self.jac[..m * p], &self.r[..m]);
+        survey_columns(
+            jac,
+            r,
+            m,
+            p,
+            &mut self.col_sq,
+            &mut self.jtr,
+            &mut self.col_amax,
+        );
+        // A non-finite entry makes its column's sum of squares non-finite; a finite column
+        // whose squares overflow does not make the Jacobian unusable.
+        (0..p).all(|j| {
+            self.col_sq[j].is_finite() || jac[j * m..(j + 1) * m].iter().all(|v| v.is_finite())
+        })
     }
 
     /// Updates the scaling: `D_i = max(0.6 D_i, ||J_i||_2)` (N2FB's adaptive rule, but with the

@@ -1,0 +1,96 @@
+//! AVX2 builds of the long (m-row) column loops, shared by the survey of each Jacobian,
+//! `J^T v` and the tall QR's block fold.
+//!
+//! Lane `l` of every accumulator register is the portable code's accumulator `l`, the lanes
+//! are summed in [`super::dot`]'s order (`(l0 + l2) + (l1 + l3)`, then the tail rows in
+//! order), and there is no fused multiply-add (Rust never contracts `a * b + c`), so every
+//! result is the portable one bit for bit and does not depend on the machine (unit tests
+//! compare the bits). Left to the compiler, an AVX2 build of the portable loops stayed partly
+//! in shuffled 128-bit halves. Several columns go through one loop so that their sums form
+//! independent dependency chains: one column's chain of adds alone is latency-bound.
+//!
+//! Every function here requires AVX2: callers check `is_x86_feature_detected!("avx2")` (or
+//! run inside a function that did).
+
+use std::arch::x86_64::*;
+
+/// The four lanes of `acc` summed as `dot` sums them, plus the tail.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn lanes_sum(acc: __m256d, tail: f64) -> f64 {
+    let l = lanes(acc);
+    (l[0] + l[2]) + (l[1] + l[3]) + tail
+}
+
+/// The four lanes of a register.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn lanes(v: __m256d) -> [f64; 4] {
+    let mut l = [0.0f64; 4];
+    // SAFETY: `l` holds four f64.
+    unsafe { _mm256_storeu_pd(l.as_mut_ptr(), v) };
+    l
+}
+
+/// `[v . cols[g]]` (every column at least as long as `v`), each equal to `dot`'s result.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn multi_dot<const G: usize>(v: &[f64], cols: [&[f64]; G]) -> [f64; G] {
+    let n = v.len();
+    let body = n - n % 4;
+    let cols: [&[f64]; G] = std::array::from_fn(|g| &cols[g][..n]);
+    let mut acc = [_mm256_setzero_pd(); G];
+    for i in (0..body).step_by(4) {
+        // SAFETY: i + 4 <= body <= n, and every slice has n entries.
+        let x = unsafe { _mm256_loadu_pd(v.as_ptr().add(i)) };
+        for g in 0..G {
+            // SAFETY: as above.
+            let y = unsafe { _mm256_loadu_pd(cols[g].as_ptr().add(i)) };
+            acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(x, y));
+        }
+    }
+    std::array::from_fn(|g| {
+        let mut tail = 0.0;
+        for (x, y) in v[body..].iter().zip(&cols[g][body..]) {
+            tail += x * y;
+        }
+        lanes_sum(acc[g], tail)
+    })
+}
+
+/// `(col . col, col . r, max |col_i|)` for each of `G` columns (each `r`'s length), equal bit
+/// for bit to the portable `column_survey`.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn column_survey<const G: usize>(cols: [&[f64]; G], r: &[f64]) -> [(f64, f64, f64); G] {
+    let n = r.len();
+    let body = n - n % 4;
+    let cols: [&[f64]; G] = std::array::from_fn(|g| &cols[g][..n]);
+    let mut sq = [_mm256_setzero_pd(); G];
+    let mut jr = [_mm256_setzero_pd(); G];
+    let mut lane_max = [_mm256_setzero_pd(); G];
+    let abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+    for i in (0..body).step_by(4) {
+        // SAFETY: i + 4 <= body <= n, and every slice has n entries.
+        let y = unsafe { _mm256_loadu_pd(r.as_ptr().add(i)) };
+        for g in 0..G {
+            // SAFETY: as above.
+            let x = unsafe { _mm256_loadu_pd(cols[g].as_ptr().add(i)) };
+            sq[g] = _mm256_add_pd(sq[g], _mm256_mul_pd(x, x));
+            jr[g] = _mm256_add_pd(jr[g], _mm256_mul_pd(x, y));
+            // max_pd(a, m) is `a > m ? a : m`, the portable code's comparison.
+            lane_max[g] = _mm256_max_pd(_mm256_and_pd(x, abs_mask), lane_max[g]);
+        }
+    }
+    std::array::from_fn(|g| {
+        let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
+        let m = lanes(lane_max[g]);
+        let mut amax = m[0].max(m[1]).max(m[2].max(m[3]));
+        for (x, y) in cols[g][body..].iter().zip(&r[body..]) {
+            sq_tail += x * x;
+            jr_tail += x * y;
+            amax = amax.max(x.abs());
+        }
+        (lanes_sum(sq[g], sq_tail), lanes_sum(jr[g], jr_tail), amax)
+    })
+}

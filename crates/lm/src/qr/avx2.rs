@@ -1,0 +1,92 @@
+//! The block fold's long loops with AVX2 intrinsics, on the conventions of
+//! `crate::linalg::avx2` (the same bits as the portable build; a unit test in the parent module
+//! compares them).
+
+use super::BlockOps;
+use crate::linalg::avx2::{lanes_sum, multi_dot};
+use std::arch::x86_64::*;
+
+/// The AVX2 build of [`BlockOps`]. Only `TallQr::run_avx2` uses it, and that runs only after
+/// `is_x86_feature_detected!("avx2")`: the safety argument of every `unsafe` call below.
+pub(super) struct Avx2;
+
+impl BlockOps for Avx2 {
+    #[inline(always)]
+    fn multi_dot<const G: usize>(v: &[f64], cols: [&[f64]; G]) -> [f64; G] {
+        // SAFETY: the CPU has AVX2 (see the type's docs).
+        unsafe { multi_dot(v, cols) }
+    }
+
+    #[inline(always)]
+    fn sub_scaled<const G: usize>(v: &[f64], w: &[f64; G], cols: &mut [&mut [f64]; G]) {
+        // SAFETY: the CPU has AVX2 (see the type's docs).
+        unsafe { sub_scaled_dot::<G, false>(v, w, cols, None) };
+    }
+
+    #[inline(always)]
+    fn sub_scaled_dot<const G: usize>(
+        v: &[f64],
+        w: &[f64; G],
+        cols: &mut [&mut [f64]; G],
+        next: Option<&[f64]>,
+    ) -> [f64; G] {
+        // SAFETY: the CPU has AVX2 (see the type's docs).
+        unsafe { sub_scaled_dot::<G, true>(v, w, cols, next) }
+    }
+}
+
+/// `cols[g][i] -= w[g] * v[i]`, four rows at a time; with `DOTS`, also `[u . cols[g]]` of the
+/// updated rows, `u` being `next` or else the updated `cols[0]`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn sub_scaled_dot<const G: usize, const DOTS: bool>(
+    v: &[f64],
+    w: &[f64; G],
+    cols: &mut [&mut [f64]; G],
+    next: Option<&[f64]>,
+) -> [f64; G] {
+    let n = v.len();
+    let body = n - n % 4;
+    for col in cols.iter() {
+        assert!(col.len() >= n, "every column has v's length");
+    }
+    if let Some(u) = next {
+        assert!(u.len() >= n, "next has v's length");
+    }
+    let wv: [__m256d; G] = std::array::from_fn(|g| _mm256_set1_pd(w[g]));
+    let ptrs: [*mut f64; G] = std::array::from_fn(|g| cols[g].as_mut_ptr());
+    let mut acc = [_mm256_setzero_pd(); G];
+    for i in (0..body).step_by(4) {
+        // SAFETY: i + 4 <= body <= n <= every slice's length (asserted above); the columns
+        // are distinct slices and `next` is not one of them.
+        unsafe {
+            let x = _mm256_loadu_pd(v.as_ptr().add(i));
+            let mut y = [_mm256_setzero_pd(); G];
+            for g in 0..G {
+                let p = ptrs[g].add(i);
+                y[g] = _mm256_sub_pd(_mm256_loadu_pd(p), _mm256_mul_pd(wv[g], x));
+                _mm256_storeu_pd(p, y[g]);
+            }
+            if DOTS {
+                let u = match next {
+                    Some(u) => _mm256_loadu_pd(u.as_ptr().add(i)),
+                    None => y[0],
+                };
+                for g in 0..G {
+                    acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(u, y[g]));
+                }
+            }
+        }
+    }
+    let mut tail = [0.0; G];
+    for (i, &vi) in v.iter().enumerate().skip(body) {
+        for g in 0..G {
+            cols[g][i] -= w[g] * vi;
+        }
+        let u = next.map_or(cols[0][i], |x| x[i]);
+        for g in 0..G {
+            tail[g] += u * cols[g][i];
+        }
+    }
+    std::array::from_fn(|g| lanes_sum(acc[g], tail[g]))
+}
