@@ -76,10 +76,13 @@ pub struct Options {
     pub singular_radius_at_least_x: bool,
     /// Raise a first trust radius that is a round-off change of x (`LMAX0 < 16 eps ||D x||`,
     /// from starts with huge Jacobian columns) to `sqrt(eps) ||D x||` (default false, as N2FB).
-    /// On: MGH's Jennrich-Sampson and Chebyquad from 10 x0 are solved instead of ending in
-    /// false or singular convergence at the start. Off by default because inside the searches
-    /// such descents are hopeless starts that should end at once: with it on, AED needed 8% and
-    /// RPLS 41% more sample-evaluations to target on the paper's tuning instance (crate docs).
+    /// On: MGH's Jennrich-Sampson from 10 x0 runs instead of ending in false convergence at the
+    /// start, but ends with singular convergence at another stationary point (f = 129.79, not a
+    /// listed minimum; `mgh_table -- OUT default lift`, 2026-12-02), and the default's 70/78
+    /// unbounded is unchanged (boxed 75/78 KKT instead of 74/78). Off by default because inside
+    /// the searches such descents are hopeless starts that should end at once: with it on, AED
+    /// needed 8% and RPLS 41% more sample-evaluations to target on the paper's tuning instance
+    /// (crate docs).
     pub lift_round_off_radius: bool,
     /// Include the secant approximation `S` of the second-order term in the scaling, as NL2SOL
     /// and N2FB do (default true, after [`Options::secant_scaling_delay`]):
