@@ -138,27 +138,6 @@ impl DataSet {
         }
     }
 
-    /// Appends sample `i` of `src`, copying its products rather than recomputing them.
-    fn push_row(&mut self, src: &DataSet, i: usize) {
-        self.stamp = fresh_stamp();
-        let cols = [
-            (&mut self.ux, &src.ux),
-            (&mut self.uy, &src.uy),
-            (&mut self.uz, &src.uz),
-            (&mut self.vx, &src.vx),
-            (&mut self.vy, &src.vy),
-            (&mut self.vz, &src.vz),
-            (&mut self.value, &src.value),
-            (&mut self.pxx, &src.pxx),
-            (&mut self.pyy, &src.pyy),
-            (&mut self.pxy, &src.pxy),
-            (&mut self.pzz, &src.pzz),
-        ];
-        for (dst, from) in cols {
-            dst.push(from[i]);
-        }
-    }
-
     fn push_products(&mut self, u: [f64; 3], v: [f64; 3]) {
         let [p, q, r, s] = products(u, v);
         self.pxx.push(p);
@@ -270,13 +249,33 @@ impl DataSet {
 
     /// Copies the samples `rows` into `out`, replacing its contents and reusing its capacity
     /// (no allocation once `out` has grown to `rows.len()`). Rows out of range are skipped.
+    ///
+    /// Column by column, with one fresh stamp for the whole gather: row by row, with a stamp
+    /// from the shared atomic counter per row, this was 8% of AED's CPU time on the tuning
+    /// instance (perf), where every descent gathers its 25-sample subsample.
     pub fn gather_into(&self, rows: &[u32], out: &mut DataSet) {
         out.clear();
         let n = self.len();
-        for &r in rows {
-            let i = r as usize;
-            if i < n {
-                out.push_row(self, i);
+        let all_in_range = rows.iter().all(|&r| (r as usize) < n);
+        let cols = [
+            (&mut out.ux, &self.ux),
+            (&mut out.uy, &self.uy),
+            (&mut out.uz, &self.uz),
+            (&mut out.vx, &self.vx),
+            (&mut out.vy, &self.vy),
+            (&mut out.vz, &self.vz),
+            (&mut out.value, &self.value),
+            (&mut out.pxx, &self.pxx),
+            (&mut out.pyy, &self.pyy),
+            (&mut out.pxy, &self.pxy),
+            (&mut out.pzz, &self.pzz),
+        ];
+        for (dst, from) in cols {
+            if all_in_range {
+                dst.extend(rows.iter().map(|&r| from[r as usize]));
+            } else {
+                let kept = rows.iter().filter(|&&r| (r as usize) < n);
+                dst.extend(kept.map(|&r| from[r as usize]));
             }
         }
     }
@@ -594,6 +593,33 @@ mod tests {
             assert_eq!(c.pzz[j], u[2] * v[2]);
         }
         assert_eq!(c.pxx.len(), c.len());
+    }
+
+    /// Every column follows the rows (repeats kept, out-of-range rows skipped in all columns
+    /// alike), and the gathered set gets a new stamp each time, so kept powers are never
+    /// reused across two gathers.
+    #[test]
+    fn gather_copies_every_column_and_skips_rows_out_of_range() {
+        let a = synthetic(&named_params("cross").unwrap(), 50, 0.1, 5);
+        let rows = [7u32, 49, 7, 50, 0, u32::MAX, 23];
+        let mut sub = DataSet::default();
+        a.gather_into(&rows, &mut sub);
+        let first_stamp = sub.stamp;
+        let kept = [7usize, 49, 7, 0, 23];
+        assert_eq!(sub.len(), kept.len());
+        for (j, &i) in kept.iter().enumerate() {
+            assert_eq!(
+                (sub.u(j), sub.v(j), sub.value[j]),
+                (a.u(i), a.v(i), a.value[i])
+            );
+            let got = [sub.pxx[j], sub.pyy[j], sub.pxy[j], sub.pzz[j]];
+            assert_eq!(got, [a.pxx[i], a.pyy[i], a.pxy[i], a.pzz[i]]);
+        }
+        for c in [&sub.pxx, &sub.pyy, &sub.pxy, &sub.pzz, &sub.value] {
+            assert_eq!(c.len(), kept.len());
+        }
+        a.gather_into(&rows, &mut sub);
+        assert_ne!(sub.stamp, first_stamp);
     }
 
     #[test]
