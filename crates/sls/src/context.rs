@@ -238,7 +238,7 @@ pub struct TrialContext<'a, O: Objective> {
 }
 
 impl<O: Objective> Drop for TrialContext<'_, O> {
-    /// Leaves the solver to the next trial on this thread ([`SPARE_SOLVER`]).
+    /// Leaves the solver to the next trial on this thread (the thread-local `SPARE_SOLVER`).
     fn drop(&mut self) {
         SPARE_SOLVER.set(Some(std::mem::take(&mut self.solver)));
     }
