@@ -137,3 +137,38 @@ fn descent_model_changes_long_descents_reproducibly() {
         "N2FB's descents took the default's path on every seed"
     );
 }
+
+/// A trial takes the solver the previous trial on its thread left (sls's `SPARE_SOLVER`):
+/// its outcome must not depend on that trial. Each seed-3 trial below runs on a fresh thread,
+/// once alone and once after a trial of another size (two lobes, another sample count and
+/// parameter count), and must be the same bit for bit (clocks aside).
+#[test]
+fn a_trial_does_not_depend_on_the_trial_before_it_on_its_thread() {
+    let one_lobe = tuning(500, 0.1, 2);
+    let data = brdf_model::synthetic(&brdf_model::named_params("cross").unwrap(), 900, 0.1, 7);
+    let layout = brdf_model::Layout::builder(&[brdf_model::LobeKind::Anisotropic; 2])
+        .build()
+        .unwrap();
+    let two_lobes = sls::BrdfObjective::new(std::sync::Arc::new(data), layout);
+    let budget = sls::Budget {
+        cpu_seconds: None,
+        sample_evaluations: Some(300_000),
+    };
+    for config in [
+        AlgorithmConfig::Aed(AedConfig::default()),
+        AlgorithmConfig::Rpls(RplsConfig::default()),
+    ] {
+        let trial = || run_trial(&one_lobe, &config, 3, budget, 0.0).without_clock();
+        let alone = std::thread::scope(|s| s.spawn(trial).join().unwrap());
+        let after_another = std::thread::scope(|s| {
+            s.spawn(|| {
+                let other = run_trial(&two_lobes, &config, 11, budget, 0.0);
+                assert!(other.ended_at.evaluations.total() > 0);
+                trial()
+            })
+            .join()
+            .unwrap()
+        });
+        assert_eq!(alone, after_another, "{}", config.kind_name());
+    }
+}
