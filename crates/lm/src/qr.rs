@@ -11,8 +11,9 @@
 //!   `[R; B]` (LAPACK's `tpqrt` structure, the sequential form of TSQR). The column scaling
 //!   `J D^-1`, the dead-column zeroing and `Q^T r` are fused into the same pass, so no `m x p`
 //!   copy of `J` and no `m`-vector copy of `r` is written. Within a block, the pass that applies
-//!   one column's reflector also accumulates the next column's dot products, so each step reads
-//!   the block once instead of three times; on x86-64 with AVX2 the long loops run with
+//!   one column's reflector also accumulates the next column's dot products (and the load of
+//!   the block those of the first step), so each step reads the block once instead of three
+//!   times; on x86-64 with AVX2 the long loops run with
 //!   intrinsics (private module `avx2`). Both leave every result bit for bit as before (unit
 //!   tests), and together they roughly halved the QR's time at 10000 x 7 (the README has the
 //!   one-run comparison).
@@ -184,15 +185,45 @@ impl TallQr<'_> {
         let mut start = 0;
         while start < self.rows {
             let nb = TALL_QR_BLOCK.min(self.rows - start);
-            self.load_block(start, nb, block);
-            fold_block::<V>(block, nb, self.cols, r, c, dots);
+            self.load_block_with_dots::<V>(start, nb, block, dots);
+            fold_block::<V>(block, nb, self.cols, r, c, dots, true);
             start += nb;
         }
     }
 
-    /// Copies rows `start..start + nb` of `A S` and of `rhs` into the block (leading dimension
-    /// [`TALL_QR_BLOCK`], the right-hand side as column `cols`).
+    /// [`TallQr::load_block`], and in the same pass the first step's dot products (column 0
+    /// of the block with every column, the right-hand side last) into `dots[..=cols]`.
     #[inline(always)]
+    fn load_block_with_dots<V: BlockOps>(
+        &self,
+        start: usize,
+        nb: usize,
+        block: &mut [f64],
+        dots: &mut [f64],
+    ) {
+        let (rows, cols) = (self.rows, self.cols);
+        let source = |j: usize| -> (&[f64], f64) {
+            if j < cols {
+                let col = &self.a[j * rows + start..j * rows + start + nb];
+                (col, self.col_scale[j])
+            } else {
+                // The right-hand side, copied: times 1 is exact for every finite value, and
+                // the solver factors only finite residuals.
+                (&self.rhs[start..start + nb], 1.0)
+            }
+        };
+        let (first, rest) = block[..(cols + 1) * LD].split_at_mut(LD * 4.min(cols + 1));
+        load_group::<V>(first, 0, nb, None, &source, dots);
+        let first = &first[..nb];
+        for (gi, group) in rest.chunks_mut(4 * LD).enumerate() {
+            load_group::<V>(group, 4 + 4 * gi, nb, Some(first), &source, dots);
+        }
+    }
+
+    /// Copies rows `start..start + nb` of `A S` and of `rhs` into the block (leading dimension
+    /// [`LD`], the right-hand side as column `cols`): the load before the passes were fused,
+    /// kept as the reference of the unit tests.
+    #[cfg(test)]
     fn load_block(&self, start: usize, nb: usize, block: &mut [f64]) {
         let (rows, cols) = (self.rows, self.cols);
         for j in 0..cols {
@@ -211,6 +242,48 @@ impl TallQr<'_> {
     }
 }
 
+/// Loads the group of block columns `first..` (each `source(j)` = column and scale; a scale of
+/// 0 gives exact zeros, as a dead column needs) and writes into `dots[j]` the loaded column 0
+/// (`next`, or the group's first) dotted with each loaded column.
+#[inline(always)]
+fn load_group<'s, V: BlockOps>(
+    group: &mut [f64],
+    first: usize,
+    nb: usize,
+    next: Option<&[f64]>,
+    source: &impl Fn(usize) -> (&'s [f64], f64),
+    dots: &mut [f64],
+) {
+    let g = group.len().div_ceil(LD);
+    let out = match g {
+        4 => load_columns::<V, 4>(group, first, nb, next, source),
+        3 => load_columns::<V, 3>(group, first, nb, next, source),
+        2 => load_columns::<V, 2>(group, first, nb, next, source),
+        _ => load_columns::<V, 1>(group, first, nb, next, source),
+    };
+    dots[first..first + g].copy_from_slice(&out[..g]);
+}
+
+/// [`load_group`] for a group of `G` columns.
+#[inline(always)]
+fn load_columns<'s, V: BlockOps, const G: usize>(
+    group: &mut [f64],
+    first: usize,
+    nb: usize,
+    next: Option<&[f64]>,
+    source: &impl Fn(usize) -> (&'s [f64], f64),
+) -> [f64; 4] {
+    let mut chunks = group.chunks_mut(LD);
+    let mut dst: [&mut [f64]; G] = std::array::from_fn(|_| match chunks.next() {
+        Some(col) => &mut col[..nb],
+        None => unreachable!("the group has G columns"),
+    });
+    let src: [(&[f64], f64); G] = std::array::from_fn(|g| source(first + g));
+    let mut out = [0.0; 4];
+    out[..G].copy_from_slice(&V::load_scaled_dot(src, &mut dst, next));
+    out
+}
+
 /// Folds an `nb`-row block `B` (with its right-hand side column) into `[R | c]`: Householder QR
 /// of `[R; B]`, where the reflector of column `k` touches only row `k` of `R` and the block.
 ///
@@ -218,7 +291,8 @@ impl TallQr<'_> {
 /// column, taken after the previous steps' updates. The pass that applies step `k`'s reflector
 /// also accumulates those of step `k + 1` from the freshly updated rows, so each step reads the
 /// block once instead of three times (squares, dot products, update); the sums are the same bit
-/// for bit. `dots` is scratch of length `cols + 1`.
+/// for bit. `dots` (length `cols + 1`) holds the first step's dot products when `fresh`
+/// (the load computed them), and is scratch otherwise.
 #[inline(always)]
 fn fold_block<V: BlockOps>(
     block: &mut [f64],
@@ -227,9 +301,10 @@ fn fold_block<V: BlockOps>(
     r: &mut [f64],
     c: &mut [f64],
     dots: &mut [f64],
+    fresh: bool,
 ) {
     // Whether `dots[k..=cols]` hold step k's dot products (column k with columns k..=cols).
-    let mut fresh = false;
+    let mut fresh = fresh;
     for k in 0..cols {
         let (head, tail) = block.split_at_mut((k + 1) * LD);
         let bk = &mut head[k * LD..k * LD + nb];
@@ -402,6 +477,14 @@ trait BlockOps {
         cols: &mut [&mut [f64]; G],
         next: Option<&[f64]>,
     ) -> [f64; G];
+    /// `dst[g] = src[g].0 * src[g].1` (exact zeros where the scale is 0), then `[u . dst[g]]`
+    /// with `u` = `next` or else the new `dst[0]`; in one pass, with the sums of a separate
+    /// [`BlockOps::multi_dot`] after the copy.
+    fn load_scaled_dot<const G: usize>(
+        src: [(&[f64], f64); G],
+        dst: &mut [&mut [f64]; G],
+        next: Option<&[f64]>,
+    ) -> [f64; G];
 }
 
 /// Plain Rust, vectorised (or not) by the compiler.
@@ -456,6 +539,23 @@ impl BlockOps for Portable {
             }
         }
         std::array::from_fn(|g| (acc[g][0] + acc[g][2]) + (acc[g][1] + acc[g][3]) + tail[g])
+    }
+
+    #[inline(always)]
+    fn load_scaled_dot<const G: usize>(
+        src: [(&[f64], f64); G],
+        dst: &mut [&mut [f64]; G],
+        next: Option<&[f64]>,
+    ) -> [f64; G] {
+        let n = dst[0].len();
+        for g in 0..G {
+            let (col, s) = src[g];
+            for (d, &x) in dst[g].iter_mut().zip(&col[..n]) {
+                *d = if s == 0.0 { 0.0 } else { x * s };
+            }
+        }
+        let u = next.unwrap_or(&*dst[0]);
+        std::array::from_fn(|g| dot(u, &*dst[g]))
     }
 }
 

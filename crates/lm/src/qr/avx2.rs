@@ -33,6 +33,75 @@ impl BlockOps for Avx2 {
         // SAFETY: the CPU has AVX2 (see the type's docs).
         unsafe { sub_scaled_dot::<G, true>(v, w, cols, next) }
     }
+
+    #[inline(always)]
+    fn load_scaled_dot<const G: usize>(
+        src: [(&[f64], f64); G],
+        dst: &mut [&mut [f64]; G],
+        next: Option<&[f64]>,
+    ) -> [f64; G] {
+        // SAFETY: the CPU has AVX2 (see the type's docs).
+        unsafe { load_scaled_dot(src, dst, next) }
+    }
+}
+
+/// `dst[g][i] = src[g].0[i] * src[g].1` (exact zeros where the scale is 0), four rows at a
+/// time, and `[u . dst[g]]` of the new columns, `u` being `next` or else the new `dst[0]`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn load_scaled_dot<const G: usize>(
+    src: [(&[f64], f64); G],
+    dst: &mut [&mut [f64]; G],
+    next: Option<&[f64]>,
+) -> [f64; G] {
+    let n = dst[0].len();
+    let body = n - n % 4;
+    for g in 0..G {
+        assert!(
+            dst[g].len() == n && src[g].0.len() >= n,
+            "columns of n rows"
+        );
+    }
+    if let Some(u) = next {
+        assert!(u.len() >= n, "next has n rows");
+    }
+    let zero: [bool; G] = std::array::from_fn(|g| src[g].1 == 0.0);
+    let scale: [__m256d; G] = std::array::from_fn(|g| _mm256_set1_pd(src[g].1));
+    let from: [*const f64; G] = std::array::from_fn(|g| src[g].0.as_ptr());
+    let to: [*mut f64; G] = std::array::from_fn(|g| dst[g].as_mut_ptr());
+    let mut acc = [_mm256_setzero_pd(); G];
+    for i in (0..body).step_by(4) {
+        // SAFETY: i + 4 <= body <= n <= every slice's length (asserted above); the
+        // destinations are distinct slices and `next` is not one of them.
+        unsafe {
+            let mut y = [_mm256_setzero_pd(); G];
+            for g in 0..G {
+                if !zero[g] {
+                    y[g] = _mm256_mul_pd(_mm256_loadu_pd(from[g].add(i)), scale[g]);
+                }
+                _mm256_storeu_pd(to[g].add(i), y[g]);
+            }
+            let u = match next {
+                Some(u) => _mm256_loadu_pd(u.as_ptr().add(i)),
+                None => y[0],
+            };
+            for g in 0..G {
+                acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(u, y[g]));
+            }
+        }
+    }
+    let mut tail = [0.0; G];
+    for i in body..n {
+        for g in 0..G {
+            let (col, s) = src[g];
+            dst[g][i] = if s == 0.0 { 0.0 } else { col[i] * s };
+        }
+        let u = next.map_or(dst[0][i], |x| x[i]);
+        for g in 0..G {
+            tail[g] += u * dst[g][i];
+        }
+    }
+    std::array::from_fn(|g| lanes_sum(acc[g], tail[g]))
 }
 
 /// `cols[g][i] -= w[g] * v[i]`, four rows at a time; with `DOTS`, also `[u . cols[g]]` of the
