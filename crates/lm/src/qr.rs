@@ -191,8 +191,10 @@ impl TallQr<'_> {
         }
     }
 
-    /// [`TallQr::load_block`], and in the same pass the first step's dot products (column 0
-    /// of the block with every column, the right-hand side last) into `dots[..=cols]`.
+    /// Copies rows `start..start + nb` of `A S` and of `rhs` into the block (leading dimension
+    /// [`LD`], the right-hand side as column `cols`) and, in the same pass, writes the first
+    /// step's dot products (column 0 of the block with every column, the right-hand side last)
+    /// into `dots[..=cols]`.
     #[inline(always)]
     fn load_block_with_dots<V: BlockOps>(
         &self,
@@ -220,9 +222,8 @@ impl TallQr<'_> {
         }
     }
 
-    /// Copies rows `start..start + nb` of `A S` and of `rhs` into the block (leading dimension
-    /// [`LD`], the right-hand side as column `cols`): the load before the passes were fused,
-    /// kept as the reference of the unit tests.
+    /// The copy of [`TallQr::load_block_with_dots`] alone, as it was before the passes were
+    /// fused: the reference of the unit tests.
     #[cfg(test)]
     fn load_block(&self, start: usize, nb: usize, block: &mut [f64]) {
         let (rows, cols) = (self.rows, self.cols);
