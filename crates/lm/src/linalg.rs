@@ -31,8 +31,9 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Each sum equals [`dot`]'s result bit for bit (see [`column_survey`]).
 ///
 /// On x86-64 with AVX2 the pass runs with intrinsics ([`avx2::column_survey`]), four columns at
-/// a time (at 10000 x 7, 14.8 us one column at a time, 10.4 two, 8.7-9.3 four, in one run). The baseline SSE2 build split the four lanes over shuffled half registers, and this
-/// pass took 20% of an RPLS run (`perf`), twice the Jacobian kernel.
+/// a time (at 10000 x 7, 14.8 us one column at a time, 10.4 two, 8.7-9.3 four, in one run).
+/// The baseline SSE2 build split the four lanes over shuffled half registers, and this pass
+/// took 20% of an RPLS run (`perf`), twice the Jacobian kernel.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn survey_columns(
     jac: &[f64],
@@ -67,9 +68,7 @@ fn survey_columns_avx2(
     out: &mut impl FnMut(usize, (f64, f64, f64)),
 ) {
     let col = |j: usize| &jac[j * m..(j + 1) * m];
-    let mut j = 0;
-    while j < p {
-        let g = (p - j).min(4);
+    for (j, g) in column_groups(p) {
         let results: &[(f64, f64, f64)] = match g {
             4 => &avx2::column_survey([col(j), col(j + 1), col(j + 2), col(j + 3)], r),
             3 => &avx2::column_survey([col(j), col(j + 1), col(j + 2)], r),
@@ -79,8 +78,14 @@ fn survey_columns_avx2(
         for (k, &s) in results.iter().enumerate() {
             out(j + k, s);
         }
-        j += g;
     }
+}
+
+/// Consecutive groups `(first column, count)` of at most four columns covering `0..p`: the
+/// AVX2 loops take four columns per pass, so that their sums form independent chains.
+#[cfg(target_arch = "x86_64")]
+fn column_groups(p: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..p).step_by(4).map(move |j| (j, (p - j).min(4)))
 }
 
 /// `(col . col, col . r, max |col_i|)` in one pass, the dot products accumulated exactly as
@@ -210,15 +215,14 @@ pub(crate) fn jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]
 fn jt_vec_avx2(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
     let v = &v[..m];
     let col = |j: usize| &jac[j * m..(j + 1) * m];
-    let mut j = 0;
-    while j + 4 <= p {
-        let d = avx2::multi_dot(v, [col(j), col(j + 1), col(j + 2), col(j + 3)]);
-        out[j..j + 4].copy_from_slice(&d);
-        j += 4;
-    }
-    for (jj, o) in out[j..p].iter_mut().enumerate() {
-        let [d] = avx2::multi_dot(v, [col(j + jj)]);
-        *o = d;
+    for (j, g) in column_groups(p) {
+        let d: &[f64] = match g {
+            4 => &avx2::multi_dot(v, [col(j), col(j + 1), col(j + 2), col(j + 3)]),
+            3 => &avx2::multi_dot(v, [col(j), col(j + 1), col(j + 2)]),
+            2 => &avx2::multi_dot(v, [col(j), col(j + 1)]),
+            _ => &avx2::multi_dot(v, [col(j)]),
+        };
+        out[j..j + g].copy_from_slice(d);
     }
 }
 

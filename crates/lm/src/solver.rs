@@ -320,8 +320,6 @@ impl Workspace {
             &mut self.jtr,
             &mut self.col_amax,
         );
-        // A non-finite entry makes its column's sum of squares non-finite; a finite column
-        // whose squares overflow does not make the Jacobian unusable.
         (0..p).all(|j| {
             self.col_sq[j].is_finite() || jac[j * m..(j + 1) * m].iter().all(|v| v.is_finite())
         })

@@ -256,7 +256,6 @@ impl DataSet {
     pub fn gather_into(&self, rows: &[u32], out: &mut DataSet) {
         out.clear();
         let n = self.len();
-        let all_in_range = rows.iter().all(|&r| (r as usize) < n);
         let cols = [
             (&mut out.ux, &self.ux),
             (&mut out.uy, &self.uy),
@@ -271,12 +270,8 @@ impl DataSet {
             (&mut out.pzz, &self.pzz),
         ];
         for (dst, from) in cols {
-            if all_in_range {
-                dst.extend(rows.iter().map(|&r| from[r as usize]));
-            } else {
-                let kept = rows.iter().filter(|&&r| (r as usize) < n);
-                dst.extend(kept.map(|&r| from[r as usize]));
-            }
+            let kept = rows.iter().filter(|&&r| (r as usize) < n);
+            dst.extend(kept.map(|&r| from[r as usize]));
         }
     }
 

@@ -55,53 +55,31 @@ fn load_scaled_dot<const G: usize>(
     next: Option<&[f64]>,
 ) -> [f64; G] {
     let n = dst[0].len();
-    let body = n - n % 4;
     for g in 0..G {
         assert!(
             dst[g].len() == n && src[g].0.len() >= n,
             "columns of n rows"
         );
     }
-    if let Some(u) = next {
-        assert!(u.len() >= n, "next has n rows");
-    }
     let zero: [bool; G] = std::array::from_fn(|g| src[g].1 == 0.0);
     let scale: [__m256d; G] = std::array::from_fn(|g| _mm256_set1_pd(src[g].1));
     let from: [*const f64; G] = std::array::from_fn(|g| src[g].0.as_ptr());
     let to: [*mut f64; G] = std::array::from_fn(|g| dst[g].as_mut_ptr());
-    let mut acc = [_mm256_setzero_pd(); G];
-    for i in (0..body).step_by(4) {
-        // SAFETY: i + 4 <= body <= n <= every slice's length (asserted above); the
-        // destinations are distinct slices and `next` is not one of them.
-        unsafe {
-            let mut y = [_mm256_setzero_pd(); G];
-            for g in 0..G {
-                if !zero[g] {
-                    y[g] = _mm256_mul_pd(_mm256_loadu_pd(from[g].add(i)), scale[g]);
-                }
-                _mm256_storeu_pd(to[g].add(i), y[g]);
-            }
-            let u = match next {
-                Some(u) => _mm256_loadu_pd(u.as_ptr().add(i)),
-                None => y[0],
-            };
-            for g in 0..G {
-                acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(u, y[g]));
-            }
+    // SAFETY: the closures read rows below n of the sources (asserted above).
+    let chunk = |g: usize, i: usize| {
+        if zero[g] {
+            _mm256_setzero_pd()
+        } else {
+            _mm256_mul_pd(unsafe { _mm256_loadu_pd(from[g].add(i)) }, scale[g])
         }
-    }
-    let mut tail = [0.0; G];
-    for i in body..n {
-        for g in 0..G {
-            let (col, s) = src[g];
-            dst[g][i] = if s == 0.0 { 0.0 } else { col[i] * s };
-        }
-        let u = next.map_or(dst[0][i], |x| x[i]);
-        for g in 0..G {
-            tail[g] += u * dst[g][i];
-        }
-    }
-    std::array::from_fn(|g| lanes_sum(acc[g], tail[g]))
+    };
+    let row = |g: usize, i: usize| {
+        let (col, s) = src[g];
+        if s == 0.0 { 0.0 } else { col[i] * s }
+    };
+    // SAFETY: every destination has n rows (asserted above), the destinations are distinct
+    // slices, and neither `next` nor a source is one of them.
+    unsafe { store_and_dot::<G, true>(n, to, next, chunk, row) }
 }
 
 /// `cols[g][i] -= w[g] * v[i]`, four rows at a time; with `DOTS`, also `[u . cols[g]]` of the
@@ -115,46 +93,77 @@ fn sub_scaled_dot<const G: usize, const DOTS: bool>(
     next: Option<&[f64]>,
 ) -> [f64; G] {
     let n = v.len();
-    let body = n - n % 4;
     for col in cols.iter() {
         assert!(col.len() >= n, "every column has v's length");
     }
-    if let Some(u) = next {
-        assert!(u.len() >= n, "next has v's length");
-    }
     let wv: [__m256d; G] = std::array::from_fn(|g| _mm256_set1_pd(w[g]));
-    let ptrs: [*mut f64; G] = std::array::from_fn(|g| cols[g].as_mut_ptr());
+    let to: [*mut f64; G] = std::array::from_fn(|g| cols[g].as_mut_ptr());
+    // SAFETY (both closures): rows below n of v and of each column (asserted above); each
+    // reads a row of its column before `store_and_dot` overwrites it.
+    let chunk = |g: usize, i: usize| unsafe {
+        let old = _mm256_loadu_pd(to[g].add(i));
+        _mm256_sub_pd(
+            old,
+            _mm256_mul_pd(wv[g], _mm256_loadu_pd(v.as_ptr().add(i))),
+        )
+    };
+    let row = |g: usize, i: usize| unsafe { *to[g].add(i) - w[g] * v[i] };
+    // SAFETY: every column has n rows (asserted above), the columns are distinct slices and
+    // `next` is not one of them.
+    unsafe { store_and_dot::<G, DOTS>(n, to, next, chunk, row) }
+}
+
+/// The loop shared by [`load_scaled_dot`] and [`sub_scaled_dot`]: rows `0..n` of each column
+/// `to[g]` become `chunk(g, i)` (four rows from `i`) or, in the tail, `row(g, i)`; with `DOTS`,
+/// returns `[u . to[g]]` of the new rows, `u` being `next` or else the new `to[0]`, summed as
+/// `dot` sums.
+///
+/// # Safety
+/// Each `to[g]` must be valid for reads and writes of `n` rows and not overlap another or
+/// `next` (which must have `n` rows).
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn store_and_dot<const G: usize, const DOTS: bool>(
+    n: usize,
+    to: [*mut f64; G],
+    next: Option<&[f64]>,
+    mut chunk: impl FnMut(usize, usize) -> __m256d,
+    mut row: impl FnMut(usize, usize) -> f64,
+) -> [f64; G] {
+    if let Some(u) = next {
+        assert!(u.len() >= n, "next has n rows");
+    }
+    let body = n - n % 4;
     let mut acc = [_mm256_setzero_pd(); G];
     for i in (0..body).step_by(4) {
-        // SAFETY: i + 4 <= body <= n <= every slice's length (asserted above); the columns
-        // are distinct slices and `next` is not one of them.
-        unsafe {
-            let x = _mm256_loadu_pd(v.as_ptr().add(i));
-            let mut y = [_mm256_setzero_pd(); G];
+        let mut y = [_mm256_setzero_pd(); G];
+        for g in 0..G {
+            y[g] = chunk(g, i);
+            // SAFETY: i + 4 <= n rows of to[g] (the caller's contract).
+            unsafe { _mm256_storeu_pd(to[g].add(i), y[g]) };
+        }
+        if DOTS {
+            let u = match next {
+                // SAFETY: as above, `next` has n rows.
+                Some(u) => unsafe { _mm256_loadu_pd(u.as_ptr().add(i)) },
+                None => y[0],
+            };
             for g in 0..G {
-                let p = ptrs[g].add(i);
-                y[g] = _mm256_sub_pd(_mm256_loadu_pd(p), _mm256_mul_pd(wv[g], x));
-                _mm256_storeu_pd(p, y[g]);
-            }
-            if DOTS {
-                let u = match next {
-                    Some(u) => _mm256_loadu_pd(u.as_ptr().add(i)),
-                    None => y[0],
-                };
-                for g in 0..G {
-                    acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(u, y[g]));
-                }
+                acc[g] = _mm256_add_pd(acc[g], _mm256_mul_pd(u, y[g]));
             }
         }
     }
     let mut tail = [0.0; G];
-    for (i, &vi) in v.iter().enumerate().skip(body) {
+    for i in body..n {
+        let mut y = [0.0; G];
         for g in 0..G {
-            cols[g][i] -= w[g] * vi;
+            y[g] = row(g, i);
+            // SAFETY: i < n rows of to[g].
+            unsafe { *to[g].add(i) = y[g] };
         }
-        let u = next.map_or(cols[0][i], |x| x[i]);
+        let u = next.map_or(y[0], |x| x[i]);
         for g in 0..G {
-            tail[g] += u * cols[g][i];
+            tail[g] += u * y[g];
         }
     }
     std::array::from_fn(|g| lanes_sum(acc[g], tail[g]))
