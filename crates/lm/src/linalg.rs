@@ -4,6 +4,8 @@
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx2;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx512;
 
 /// Dot product with four accumulators so the compiler can vectorise the long (m-row) sums.
 #[inline]
@@ -31,7 +33,8 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Each sum equals [`dot`]'s result bit for bit (see [`column_survey`]).
 ///
 /// On x86-64 with AVX2 the pass runs with intrinsics ([`avx2::column_survey`]), four columns at
-/// a time (at 10000 x 7, 14.8 us one column at a time, 10.4 two, 8.7-9.3 four, in one run).
+/// a time (at 10000 x 7, 14.8 us one column at a time, 10.4 two, 8.7-9.3 four, in one run),
+/// and with AVX-512F eight rows per instruction ([`avx512::column_survey`], the same bits).
 /// The baseline SSE2 build split the four lanes over shuffled half registers, and this pass
 /// took 20% of an RPLS run (`perf`), twice the Jacobian kernel.
 #[allow(clippy::too_many_arguments)]
@@ -47,39 +50,71 @@ pub(crate) fn survey_columns(
     let (jac, r) = (&jac[..m * p], &r[..m]);
     let mut out = |j: usize, s: (f64, f64, f64)| (sq[j], jr[j], amax[j]) = s;
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        unsafe { survey_columns_avx2(jac, r, m, p, &mut out) };
-        return;
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { survey_columns_avx512(jac, r, m, p, &mut out) };
+            return;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            unsafe { survey_columns_avx2(jac, r, m, p, &mut out) };
+            return;
+        }
     }
     for j in 0..p {
         out(j, column_survey(&jac[j * m..(j + 1) * m], r));
     }
 }
 
-/// [`survey_columns`] with AVX2 intrinsics, four columns per pass.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn survey_columns_avx2(
-    jac: &[f64],
-    r: &[f64],
-    m: usize,
-    p: usize,
-    out: &mut impl FnMut(usize, (f64, f64, f64)),
-) {
-    let col = |j: usize| &jac[j * m..(j + 1) * m];
-    for (j, g) in column_groups(p) {
-        let results: &[(f64, f64, f64)] = match g {
-            4 => &avx2::column_survey([col(j), col(j + 1), col(j + 2), col(j + 3)], r),
-            3 => &avx2::column_survey([col(j), col(j + 1), col(j + 2)], r),
-            2 => &avx2::column_survey([col(j), col(j + 1)], r),
-            _ => &avx2::column_survey([col(j)], r),
-        };
-        for (k, &s) in results.iter().enumerate() {
-            out(j + k, s);
+/// The AVX2 and AVX-512 builds of [`survey_columns`] and [`jt_vec`], four columns per pass.
+macro_rules! column_passes {
+    ($survey:ident, $jt_vec:ident, $simd:ident, $features:literal) => {
+        #[doc = concat!("[`survey_columns`] with the intrinsics of [`", stringify!($simd), "`].")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        fn $survey(
+            jac: &[f64],
+            r: &[f64],
+            m: usize,
+            p: usize,
+            out: &mut impl FnMut(usize, (f64, f64, f64)),
+        ) {
+            let col = |j: usize| &jac[j * m..(j + 1) * m];
+            for (j, g) in column_groups(p) {
+                let results: &[(f64, f64, f64)] = match g {
+                    4 => &$simd::column_survey([col(j), col(j + 1), col(j + 2), col(j + 3)], r),
+                    3 => &$simd::column_survey([col(j), col(j + 1), col(j + 2)], r),
+                    2 => &$simd::column_survey([col(j), col(j + 1)], r),
+                    _ => &$simd::column_survey([col(j)], r),
+                };
+                for (k, &s) in results.iter().enumerate() {
+                    out(j + k, s);
+                }
+            }
         }
-    }
+
+        #[doc = concat!("[`jt_vec`] with the intrinsics of [`", stringify!($simd), "`].")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        fn $jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
+            let v = &v[..m];
+            let col = |j: usize| &jac[j * m..(j + 1) * m];
+            for (j, g) in column_groups(p) {
+                let d: &[f64] = match g {
+                    4 => &$simd::multi_dot(v, [col(j), col(j + 1), col(j + 2), col(j + 3)]),
+                    3 => &$simd::multi_dot(v, [col(j), col(j + 1), col(j + 2)]),
+                    2 => &$simd::multi_dot(v, [col(j), col(j + 1)]),
+                    _ => &$simd::multi_dot(v, [col(j)]),
+                };
+                out[j..j + g].copy_from_slice(d);
+            }
+        }
+    };
 }
+
+column_passes!(survey_columns_avx2, jt_vec_avx2, avx2, "avx2");
+column_passes!(survey_columns_avx512, jt_vec_avx512, avx512, "avx512f,avx2");
 
 /// Consecutive groups `(first column, count)` of at most four columns covering `0..p`: the
 /// AVX2 loops take four columns per pass, so that their sums form independent chains.
@@ -133,7 +168,15 @@ pub(crate) fn norm(a: &[f64]) -> f64 {
 
 /// Given upper-triangular `t` (`n x n`) and `u`, computes upper-triangular `tl` with
 /// `tl^T tl = t^T t + lam I` and the correspondingly rotated `ul` (Givens rotations eliminating
-/// the rows `sqrt(lam) e_i`, MINPACK's qrsolv). `w` is scratch of length `n`.
+/// the rows `sqrt(lam) e_i`, MINPACK's qrsolv). `w` is scratch of length
+/// [`shifted_scratch_len`]`(n)`.
+///
+/// Rotation `(i, k)` eliminates entry `k` of row `i` against `tl`'s row `k`; it needs only
+/// rotations `(i - 1, k)` and `(i, k - 1)`. MINPACK does the rotations row after row, which
+/// makes one long chain of square roots and divisions (a profile of AED put a third of this
+/// function's time on waiting for them). Here they run in anti-diagonal sweeps `i + k = s`,
+/// whose rotations are independent of one another and so overlap, while each entry still
+/// receives its updates in the row-after-row order: the result is the same to the bit.
 pub(crate) fn shifted_triangular(
     t: &[f64],
     u: &[f64],
@@ -145,31 +188,49 @@ pub(crate) fn shifted_triangular(
 ) {
     tl[..n * n].copy_from_slice(&t[..n * n]);
     ul[..n].copy_from_slice(&u[..n]);
+    let stride = n + 1;
+    let rows = &mut w[..n * stride];
+    rows.fill(0.0);
     let sl = lam.sqrt();
     for i in 0..n {
-        w[..n].fill(0.0);
-        w[i] = sl;
-        let mut wr = 0.0;
-        for k in i..n {
-            if w[k] == 0.0 {
-                continue;
-            }
-            let tkk = tl[k * n + k];
-            // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
-            // D-scaled, far from overflow.
-            let r = (tkk * tkk + w[k] * w[k]).sqrt();
-            let (cs, sn) = (tkk / r, w[k] / r);
-            for j in k..n {
-                let a = tl[j * n + k];
-                let b = w[j];
-                tl[j * n + k] = cs * a + sn * b;
-                w[j] = -sn * a + cs * b;
-            }
-            let a = ul[k];
-            ul[k] = cs * a + sn * wr;
-            wr = -sn * a + cs * wr;
+        rows[i * stride + i] = sl;
+    }
+    for s in 0..(2 * n).saturating_sub(1) {
+        for i in s.saturating_sub(n - 1)..=s / 2 {
+            let row = &mut rows[i * stride..(i + 1) * stride];
+            eliminate_entry(tl, ul, n, s - i, row);
         }
     }
+}
+
+/// Scratch length of [`shifted_triangular`]: each shifted row and its right-hand side.
+pub(crate) fn shifted_scratch_len(n: usize) -> usize {
+    n * (n + 1)
+}
+
+/// One Givens rotation of [`shifted_triangular`]: zeroes `row[k]` against `tl`'s row `k`;
+/// `row[n]` carries the row's right-hand side.
+#[inline(always)]
+fn eliminate_entry(tl: &mut [f64], ul: &mut [f64], n: usize, k: usize, row: &mut [f64]) {
+    let wk = row[k];
+    if wk == 0.0 {
+        return;
+    }
+    let tkk = tl[k * n + k];
+    // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
+    // D-scaled, far from overflow.
+    let r = (tkk * tkk + wk * wk).sqrt();
+    let (cs, sn) = (tkk / r, wk / r);
+    for j in k..n {
+        let a = tl[j * n + k];
+        let b = row[j];
+        tl[j * n + k] = cs * a + sn * b;
+        row[j] = -sn * a + cs * b;
+    }
+    let a = ul[k];
+    let b = row[n];
+    ul[k] = cs * a + sn * b;
+    row[n] = -sn * a + cs * b;
 }
 
 /// Solves `T z = b` in place for upper-triangular `t` (`n x n`, column-major).
@@ -195,34 +256,25 @@ pub(crate) fn upper_transpose_solve(t: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// `out = J^T v`, each entry exactly [`dot`]'s result; on x86-64 with AVX2 with intrinsics,
-/// four columns per pass over `v` ([`avx2::multi_dot`], the same bits).
+/// `out = J^T v`, each entry exactly [`dot`]'s result; on x86-64 with AVX2 or AVX-512F
+/// intrinsics, four columns per pass over `v` ([`avx2::multi_dot`], [`avx512::multi_dot`],
+/// the same bits).
 pub(crate) fn jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        unsafe { jt_vec_avx2(jac, v, m, p, out) };
-        return;
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { jt_vec_avx512(jac, v, m, p, out) };
+            return;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            unsafe { jt_vec_avx2(jac, v, m, p, out) };
+            return;
+        }
     }
     for j in 0..p {
         out[j] = dot(&jac[j * m..(j + 1) * m], v);
-    }
-}
-
-/// [`jt_vec`] with AVX2 intrinsics.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn jt_vec_avx2(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
-    let v = &v[..m];
-    let col = |j: usize| &jac[j * m..(j + 1) * m];
-    for (j, g) in column_groups(p) {
-        let d: &[f64] = match g {
-            4 => &avx2::multi_dot(v, [col(j), col(j + 1), col(j + 2), col(j + 3)]),
-            3 => &avx2::multi_dot(v, [col(j), col(j + 1), col(j + 2)]),
-            2 => &avx2::multi_dot(v, [col(j), col(j + 1)]),
-            _ => &avx2::multi_dot(v, [col(j)]),
-        };
-        out[j..j + g].copy_from_slice(d);
     }
 }
 
@@ -311,6 +363,52 @@ mod tests {
     use super::*;
     use crate::qr::householder_qr;
 
+    type Passes = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+    /// `(sq, jr, amax, J^T v)` from the dispatched functions and from each intrinsics build
+    /// this CPU has.
+    fn column_passes_of_every_build(
+        jac: &[f64],
+        v: &[f64],
+        m: usize,
+        p: usize,
+    ) -> Vec<(&'static str, Passes)> {
+        let empty = || (vec![0.0; p], vec![0.0; p], vec![0.0; p], vec![0.0; p]);
+        let mut out = vec![];
+        let mut d = empty();
+        survey_columns(jac, v, m, p, &mut d.0, &mut d.1, &mut d.2);
+        jt_vec(jac, v, m, p, &mut d.3);
+        out.push(("dispatched", d));
+        #[cfg(target_arch = "x86_64")]
+        {
+            type Survey = unsafe fn(&[f64], &[f64], usize, usize, &mut Passes);
+            let avx2: Survey = |jac, v, m, p, o| unsafe {
+                survey_columns_avx2(jac, v, m, p, &mut |j, s| (o.0[j], o.1[j], o.2[j]) = s);
+                jt_vec_avx2(jac, v, m, p, &mut o.3);
+            };
+            let avx512: Survey = |jac, v, m, p, o| unsafe {
+                survey_columns_avx512(jac, v, m, p, &mut |j, s| (o.0[j], o.1[j], o.2[j]) = s);
+                jt_vec_avx512(jac, v, m, p, &mut o.3);
+            };
+            for (build, has, run) in [
+                ("avx2", std::arch::is_x86_feature_detected!("avx2"), avx2),
+                (
+                    "avx512",
+                    std::arch::is_x86_feature_detected!("avx512f"),
+                    avx512,
+                ),
+            ] {
+                if has {
+                    let mut o = empty();
+                    // SAFETY: the CPU has the build's features (checked in `has`).
+                    unsafe { run(jac, v, m, p, &mut o) };
+                    out.push((build, o));
+                }
+            }
+        }
+        out
+    }
+
     /// The fused survey must give exactly the separate passes' numbers (the goldens depend on
     /// it), for every tail length, and flag a non-finite column through its sum of squares.
     #[test]
@@ -337,21 +435,20 @@ mod tests {
             col[6] = bad;
             assert!(!column_survey(&col, &[0.5; 9]).0.is_finite(), "{bad}");
         }
-        // survey_columns and jt_vec (with intrinsics where the CPU has AVX2, several columns
-        // per pass) against the portable column_survey and dot, column by column.
-        for (m, p) in [(131, 3), (64, 4), (7, 6), (1001, 9)] {
+        // survey_columns and jt_vec, dispatched and in each intrinsics build the CPU can run
+        // (several columns per pass; eight-row steps followed or not by a four-row step and a
+        // tail), against the portable column_survey and dot, column by column.
+        for (m, p) in [(131, 3), (64, 4), (7, 6), (12, 5), (1001, 9), (1005, 2)] {
             let jac: Vec<f64> = (0..m * p).map(|_| next()).collect();
             let v: Vec<f64> = (0..m).map(|_| next()).collect();
-            let (mut sq, mut jr, mut amax, mut jtv) =
-                (vec![0.0; p], vec![0.0; p], vec![0.0; p], vec![0.0; p]);
-            survey_columns(&jac, &v, m, p, &mut sq, &mut jr, &mut amax);
-            jt_vec(&jac, &v, m, p, &mut jtv);
-            for j in 0..p {
-                let col = &jac[j * m..(j + 1) * m];
-                let (esq, ejr, eamax) = column_survey(col, &v);
-                let got = [sq[j], jr[j], amax[j], jtv[j]].map(f64::to_bits);
-                let expected = [esq, ejr, eamax, dot(col, &v)].map(f64::to_bits);
-                assert_eq!(got, expected, "m = {m}, p = {p}, column {j}");
+            for (build, (sq, jr, amax, jtv)) in column_passes_of_every_build(&jac, &v, m, p) {
+                for j in 0..p {
+                    let col = &jac[j * m..(j + 1) * m];
+                    let (esq, ejr, eamax) = column_survey(col, &v);
+                    let got = [sq[j], jr[j], amax[j], jtv[j]].map(f64::to_bits);
+                    let expected = [esq, ejr, eamax, dot(col, &v)].map(f64::to_bits);
+                    assert_eq!(got, expected, "{build}: m = {m}, p = {p}, column {j}");
+                }
             }
         }
         // Finite entries whose squares overflow: the sum is infinite, the entries are not.
@@ -382,6 +479,67 @@ mod tests {
         assert!(cholesky_shifted(&a, 1e-3, 2, 1e-14, &mut l));
     }
 
+    /// MINPACK's qrsolv order: each shifted row rotated in to the end before the next.
+    fn shifted_triangular_row_by_row(t: &[f64], u: &[f64], n: usize, lam: f64) -> Vec<f64> {
+        let (mut tl, mut ul) = (t[..n * n].to_vec(), u[..n].to_vec());
+        let mut w = vec![0.0; n];
+        for i in 0..n {
+            w.fill(0.0);
+            w[i] = lam.sqrt();
+            let mut wr = 0.0;
+            for k in i..n {
+                if w[k] == 0.0 {
+                    continue;
+                }
+                let tkk = tl[k * n + k];
+                let r = (tkk * tkk + w[k] * w[k]).sqrt();
+                let (cs, sn) = (tkk / r, w[k] / r);
+                for j in k..n {
+                    let (a, b) = (tl[j * n + k], w[j]);
+                    tl[j * n + k] = cs * a + sn * b;
+                    w[j] = -sn * a + cs * b;
+                }
+                let a = ul[k];
+                ul[k] = cs * a + sn * wr;
+                wr = -sn * a + cs * wr;
+            }
+        }
+        tl.extend_from_slice(&ul);
+        tl
+    }
+
+    /// The anti-diagonal sweeps give the row-by-row result to the bit, including zero
+    /// entries of `t` (skipped rotations), a zero shift and sizes 1 to 13.
+    #[test]
+    fn shifted_sweeps_equal_the_row_by_row_rotations_bit_for_bit() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for n in 1..=13 {
+            for lam in [0.0, 1e-9, 0.37, 52.0] {
+                let mut t = vec![0.0; n * n];
+                for j in 0..n {
+                    for i in 0..=j {
+                        // Every fifth entry zero, diagonal included.
+                        t[j * n + i] = if (i + 3 * j) % 5 == 0 { 0.0 } else { next() };
+                    }
+                }
+                let u: Vec<f64> = (0..n).map(|_| next()).collect();
+                let (mut tl, mut ul) = (vec![0.0; n * n], vec![0.0; n]);
+                let mut w = vec![f64::NAN; shifted_scratch_len(n)];
+                shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w);
+                tl.extend_from_slice(&ul);
+                let want = shifted_triangular_row_by_row(&t, &u, n, lam);
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&tl), bits(&want), "n {n} lam {lam}");
+            }
+        }
+    }
+
     #[test]
     fn qr_and_shift_match_normal_equations() {
         // J is 4x3; check R^T R = J^T J, and tl^T tl = R^T R + lam I.
@@ -396,7 +554,7 @@ mod tests {
             }
         }
         let lam = 0.7;
-        let (mut tl, mut ul, mut w) = ([0.0; 9], [0.0; 3], [0.0; 3]);
+        let (mut tl, mut ul, mut w) = ([0.0; 9], [0.0; 3], [0.0; 12]);
         shifted_triangular(&r, &rhs[..3], 3, lam, &mut tl, &mut ul, &mut w);
         for c1 in 0..3 {
             for c2 in 0..3 {

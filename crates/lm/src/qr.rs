@@ -13,10 +13,10 @@
 //!   copy of `J` and no `m`-vector copy of `r` is written. Within a block, the pass that applies
 //!   one column's reflector also accumulates the next column's dot products (and the load of
 //!   the block those of the first step), so each step reads the block once instead of three
-//!   times; on x86-64 with AVX2 the long loops run with
-//!   intrinsics (private module `avx2`). Both leave every result bit for bit as before (unit
-//!   tests), and together they roughly halved the QR's time at 10000 x 7 (the README has the
-//!   one-run comparison).
+//!   times; on x86-64 the long loops run with AVX2 intrinsics (private module `avx2`) or, where
+//!   the CPU has AVX-512F, eight rows per instruction (private module `avx512`). All of these
+//!   leave every result bit for bit as before (unit tests), and together they more than halved
+//!   the QR's time at 10000 x 7 (the README has the one-run comparisons).
 //!
 //! Both give `R` with diagonal entries of either sign and `c` = the first `cols` entries of
 //! `Q^T rhs`; `R^T R = A^T A` and `R^T c = A^T rhs` up to round-off.
@@ -143,10 +143,17 @@ pub fn tall_qr(
     let (r, c) = (&mut r[..cols * cols], &mut c[..cols]);
     let scratch = &mut scratch[..tall_qr_scratch_len(cols)];
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        unsafe { m.run_avx2(r, c, scratch) };
-        return;
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { m.run_avx512(r, c, scratch) };
+            return;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            unsafe { m.run_avx2(r, c, scratch) };
+            return;
+        }
     }
     m.run(r, c, scratch);
 }
@@ -169,6 +176,15 @@ impl TallQr<'_> {
     #[target_feature(enable = "avx2")]
     fn run_avx2(&self, r: &mut [f64], c: &mut [f64], scratch: &mut [f64]) {
         self.run_with::<avx2::Avx2>(r, c, scratch);
+    }
+
+    /// [`TallQr::run_avx2`] with eight rows per instruction ([`avx512::Avx512`]); the dot
+    /// products still add four lanes in the portable order, so the bits are again
+    /// [`TallQr::run`]'s.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx2")]
+    fn run_avx512(&self, r: &mut [f64], c: &mut [f64], scratch: &mut [f64]) {
+        self.run_with::<avx512::Avx512>(r, c, scratch);
     }
 
     /// The portable build.
@@ -599,6 +615,8 @@ fn block_reflector<V: BlockOps>(rkk: f64, sigma: f64, bk: &mut [f64]) -> Option<
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 
 #[cfg(test)]
 mod tests {
@@ -642,11 +660,11 @@ mod tests {
         }
     }
 
-    /// The fused fold gives the one-pass-at-a-time fold's bits, in both builds (the portable
-    /// one and the dispatched one, AVX2 where the CPU has it, so results do not depend on the
-    /// machine), on a plain matrix, with a zeroed column (an exactly zero diagonal entry), with
-    /// a column whose squares underflow (the rescaled reflector) and with row counts that
-    /// leave partial blocks and tails of 1 to 3 rows.
+    /// The fused fold gives the one-pass-at-a-time fold's bits in every build (the portable
+    /// one, the dispatched one, and AVX2 and AVX-512 where the CPU has them, so results do not
+    /// depend on the machine), on a plain matrix, with a zeroed column (an exactly zero
+    /// diagonal entry), with a column whose squares underflow (the rescaled reflector) and
+    /// with row counts that leave partial blocks, four-row steps and tails of 1 to 3 rows.
     #[test]
     fn fused_fold_equals_the_pass_at_a_time_fold_bit_for_bit() {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -687,6 +705,23 @@ mod tests {
             tall_qr(&a, rows, cols, &scale, &rhs, &mut r1, &mut c1, &mut scratch);
             assert_eq!(bits(&r0), bits(&r1), "dispatched R, case {case}");
             assert_eq!(bits(&c0), bits(&c1), "dispatched c, case {case}");
+            #[cfg(target_arch = "x86_64")]
+            for (build, has) in [
+                ("avx2", std::arch::is_x86_feature_detected!("avx2")),
+                ("avx512", std::arch::is_x86_feature_detected!("avx512f")),
+            ] {
+                if !has {
+                    continue;
+                }
+                r1.fill(f64::NAN);
+                // SAFETY: the CPU has the build's features (checked in `has`).
+                match build {
+                    "avx2" => unsafe { m.run_avx2(&mut r1, &mut c1, &mut scratch) },
+                    _ => unsafe { m.run_avx512(&mut r1, &mut c1, &mut scratch) },
+                }
+                assert_eq!(bits(&r0), bits(&r1), "{build} R, case {case}");
+                assert_eq!(bits(&c0), bits(&c1), "{build} c, case {case}");
+            }
             if case == 1 {
                 assert_eq!(r1[2 * cols + 2], 0.0, "the zeroed column's diagonal");
             }

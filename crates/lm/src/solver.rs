@@ -9,8 +9,8 @@
 //! (Dennis, Gay and Welsch 1981; Gay 1983): RADFAC, RADINC, PREDUC, NREDUC, RELDX, STPPAR.
 
 use crate::linalg::{
-    backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm, shifted_triangular,
-    survey_columns, sym_mat_vec, upper_solve, upper_transpose_solve,
+    backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm, shifted_scratch_len,
+    shifted_triangular, survey_columns, sym_mat_vec, upper_solve, upper_transpose_solve,
 };
 use crate::qr::{TALL_QR_MIN_ROWS, householder_qr, tall_qr, tall_qr_scratch_len};
 use crate::{Options, Outcome, Problem, RadiusUpdate, Report, SolveError, StepModel};
@@ -123,7 +123,7 @@ struct Workspace {
     ls_block: Vec<f64>,
     ls_rhs: Vec<f64>,
     /// Factor of the shifted system `[T; sqrt(lambda) I] -> T_lambda`, its right-hand side, and
-    /// the Givens scratch row.
+    /// the Givens scratch rows.
     ls_t_lambda: Vec<f64>,
     ls_u_lambda: Vec<f64>,
     ls_row: Vec<f64>,
@@ -248,7 +248,6 @@ impl Workspace {
             &mut self.ls_u,
             &mut self.ls_rhs,
             &mut self.ls_u_lambda,
-            &mut self.ls_row,
             &mut self.qd_g,
             &mut self.sub_z,
             &mut self.sub_best,
@@ -280,6 +279,7 @@ impl Workspace {
         grow(&mut self.qr, m * p);
         grow(&mut self.qr_scratch, tall_qr_scratch_len(p));
         grow(&mut self.ls_block, p * (p + 1));
+        grow(&mut self.ls_row, shifted_scratch_len(p));
         for v in [
             &mut self.jtj,
             &mut self.rmat,
@@ -648,7 +648,7 @@ impl Workspace {
                 u: &self.ls_u[..n],
                 t_lambda: &mut self.ls_t_lambda[..n * n],
                 u_lambda: &mut self.ls_u_lambda[..n],
-                row: &mut self.ls_row[..n],
+                row: &mut self.ls_row[..shifted_scratch_len(n)],
             };
             trust_region(&mut sub, radius, lambda, z, best, q)
         }
@@ -952,7 +952,7 @@ struct LeastSquaresModel<'a> {
     t_lambda: &'a mut [f64],
     /// The rotated right-hand side.
     u_lambda: &'a mut [f64],
-    /// Givens scratch row.
+    /// Givens scratch rows ([`shifted_scratch_len`]).
     row: &'a mut [f64],
 }
 
@@ -2068,7 +2068,7 @@ mod tests {
         for (n, k) in [(8, 3), (20, 7), (40, 39)] {
             let (t, u) = trapezoid(n, k);
             let mut t_lambda = vec![0.0; n * n];
-            let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; n]);
+            let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; shifted_scratch_len(n)]);
             let mut primal = LeastSquaresModel {
                 n,
                 t: &t,
@@ -2109,7 +2109,7 @@ mod tests {
         let (n, k) = (30, 6);
         let (t, u) = trapezoid(n, k);
         let mut t_lambda = vec![0.0; n * n];
-        let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; n]);
+        let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; shifted_scratch_len(n)]);
         let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
         let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
         let (mut best, mut q) = (vec![0.0; n], vec![0.0; n]);

@@ -82,15 +82,27 @@ pub(crate) fn column_survey<const G: usize>(cols: [&[f64]; G], r: &[f64]) -> [(f
             lane_max[g] = _mm256_max_pd(_mm256_and_pd(x, abs_mask), lane_max[g]);
         }
     }
-    std::array::from_fn(|g| {
-        let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
-        let m = lanes(lane_max[g]);
-        let mut amax = m[0].max(m[1]).max(m[2].max(m[3]));
-        for (x, y) in cols[g][body..].iter().zip(&r[body..]) {
-            sq_tail += x * x;
-            jr_tail += x * y;
-            amax = amax.max(x.abs());
-        }
-        (lanes_sum(sq[g], sq_tail), lanes_sum(jr[g], jr_tail), amax)
-    })
+    std::array::from_fn(|g| survey_result(sq[g], jr[g], lane_max[g], &cols[g][body..], &r[body..]))
+}
+
+/// A column's survey from its lane accumulators and its tail rows (`col_tail`, `r_tail`):
+/// the sums as `dot` sums them, the largest magnitude as the portable code finds it.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn survey_result(
+    sq: __m256d,
+    jr: __m256d,
+    lane_max: __m256d,
+    col_tail: &[f64],
+    r_tail: &[f64],
+) -> (f64, f64, f64) {
+    let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
+    let m = lanes(lane_max);
+    let mut amax = m[0].max(m[1]).max(m[2].max(m[3]));
+    for (x, y) in col_tail.iter().zip(r_tail) {
+        sq_tail += x * x;
+        jr_tail += x * y;
+        amax = amax.max(x.abs());
+    }
+    (lanes_sum(sq, sq_tail), lanes_sum(jr, jr_tail), amax)
 }
