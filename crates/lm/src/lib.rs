@@ -36,8 +36,11 @@
 //! Gauss-Newton model the shifted systems are factored by Givens rotations of
 //! `[R; sqrt(lambda) I]` (MINPACK's qrsolv), so `J^T J` is never formed and its squared condition
 //! number never matters; a rank-deficient `R` simply has no Gauss-Newton step (lambda > 0 is
-//! always well posed). A step is accepted when `f` decreases by more than 1e-4 of the predicted
-//! reduction.
+//! always well posed). When the minimum-norm Gauss-Newton step of a rank-deficient `R` lies
+//! inside the region, no `lambda` reaches the boundary; by default the iteration then stops
+//! once the steps stop growing, as MINPACK's `lmpar` does
+//! ([`Options::stop_at_minimum_norm_step`], off in the searches). A step is accepted when `f`
+//! decreases by more than 1e-4 of the predicted reduction.
 //!
 //! With fewer residuals than free variables (`m < n`: a 25-row subsample of a many-lobe model)
 //! `R` has only `m` nonzero rows, and the shifted systems are solved in their dual form

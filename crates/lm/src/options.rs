@@ -123,6 +123,18 @@ pub struct Options {
     /// (median 10.7e6 against 3.0e6, 100 seeds, target 0.02) and RPLS 1.19 times, so the
     /// searches' descents run with it off (`sls::DescentModel::options`).
     pub hold_dead_columns: bool,
+    /// End the search for the Levenberg parameter once the steps inside the trust region have
+    /// converged to the minimum-norm Gauss-Newton step (default true; MINPACK's `lmpar` rule,
+    /// Moré 1978). Without it a singular model whose minimum-norm step lies inside the region
+    /// keeps dividing lambda by 1000 to the 60-step limit (lambda ~ 1e-180). In the searches'
+    /// descents (dead columns not held) a quarter of AED's calls in the raw exponent coordinate
+    /// did that, 40% of its CPU time (perf); stopping early cut its median CPU to target on the
+    /// tuning instance from 3.6 to 2.4 ms. But on the two-lobe cross instance AED then needed
+    /// 1.8 times the sample-evaluations (the moves of a dead lobe's parameters that only a tiny
+    /// lambda allows seem to be what revives it, as with [`Options::hold_dead_columns`]), so
+    /// the searches keep it off (`sls::DescentModel::options`). The Moré-Garbow-Hillstrom and
+    /// NIST tables are the same either way.
+    pub stop_at_minimum_norm_step: bool,
     /// Quadratic model (default [`StepModel::Adaptive`] after [`Options::adaptive_delay`];
     /// [`StepModel::GaussNewton`] never uses the augmented model: see the crate docs).
     pub model: StepModel,
@@ -147,6 +159,7 @@ impl Default for Options {
             adaptive_delay: 2,
             radius_update: RadiusUpdate::Nl2sol,
             hold_dead_columns: true,
+            stop_at_minimum_norm_step: true,
             model: crate::DEFAULT_MODEL,
         }
     }

@@ -107,6 +107,8 @@ struct Workspace {
     dead: Vec<bool>,
     /// Hold numerically dead variables ([`Options::hold_dead_columns`]; set by each solve).
     hold_dead: bool,
+    /// [`Options::stop_at_minimum_norm_step`] (set by each solve).
+    stop_at_min_norm: bool,
     col_max: Vec<f64>,
     /// From one pass over a new Jacobian ([`Workspace::survey_jacobian`]): each column's sum
     /// of squares, its max-abs entry, and `J^T r`.
@@ -618,6 +620,7 @@ impl Workspace {
             self.build_quadratic_model(n);
         }
         let lambda = self.lambda;
+        let stop_at_min_norm = self.stop_at_min_norm;
         let (z, best, q) = (&mut self.sub_z[..n], &mut self.sub_best, &mut self.sub_q);
         if augmented {
             let mut sub = QuadraticModel {
@@ -626,7 +629,7 @@ impl Workspace {
                 g: &self.qd_g[..n],
                 chol: &mut self.qd_chol[..n * n],
             };
-            trust_region(&mut sub, radius, lambda, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
         } else if self.m < n {
             let k = self.m;
             let mut sub = WideLeastSquaresModel {
@@ -640,7 +643,7 @@ impl Workspace {
                 v: &mut self.wide_v[..k],
             }
             .with_gram();
-            trust_region(&mut sub, radius, lambda, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
         } else {
             let mut sub = LeastSquaresModel {
                 n,
@@ -650,7 +653,7 @@ impl Workspace {
                 u_lambda: &mut self.ls_u_lambda[..n],
                 row: &mut self.ls_row[..shifted_scratch_len(n)],
             };
-            trust_region(&mut sub, radius, lambda, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
         }
     }
 
@@ -1190,12 +1193,33 @@ impl Subproblem for QuadraticModel<'_> {
     }
 }
 
+/// Relative growth of the step's norm below which [`reached_minimum_norm_step`] calls the
+/// steps converged.
+const MIN_NORM_STEP_TOL: f64 = 1e-10;
+
+/// Whether the trust-region iteration has converged to the minimum-norm Gauss-Newton step
+/// inside the region, where the boundary is out of reach ([`Options::stop_at_minimum_norm_step`]);
+/// `inside_norm` is the norm of the previous step inside, negative before the first.
+///
+/// Without a Gauss-Newton step (`newton_norm < 0`: the model is singular) and without a
+/// positive lower bound on lambda, the steps `z(lambda)` grow as lambda falls towards the
+/// minimum-norm minimiser of the model. When that lies inside the region, no lambda puts the
+/// step on the boundary, and the iteration divides lambda by 1000 until its 60-step limit
+/// (down to lambda ~ 1e-180). MINPACK's `lmpar` stops in this case once the step stops
+/// growing (`parl = 0` and `fp <= temp < 0`, Moré 1978); so does this, once the step grew by
+/// less than [`MIN_NORM_STEP_TOL`] relative to the step before.
+fn reached_minimum_norm_step(lo: f64, newton_norm: f64, nz: f64, inside_norm: f64) -> bool {
+    lo == 0.0 && newton_norm < 0.0 && nz <= inside_norm * (1.0 + MIN_NORM_STEP_TOL)
+}
+
 /// Minimises the free-set model subject to `||z|| <= radius` (More-Sorensen/Hebden iteration on
 /// `lambda`); `z` receives the step; `best` (the best feasible step seen) and `q` are scratch.
+/// `stop_at_min_norm` is [`Options::stop_at_minimum_norm_step`].
 fn trust_region(
     sub: &mut impl Subproblem,
     radius: f64,
     lambda_guess: f64,
+    stop_at_min_norm: bool,
     z: &mut [f64],
     best: &mut [f64],
     q: &mut [f64],
@@ -1244,6 +1268,9 @@ fn trust_region(
     let mut lam = lambda_guess;
     let mut have_best = false;
     let mut best_lambda = hi;
+    // The norm of the last step found inside the region (see the minimum-norm test below);
+    // -1 before the first, so that the test cannot pass on it.
+    let mut inside_norm = -1.0;
     for _ in 0..60 {
         if !(lam > lo && lam < hi) {
             lam = if lo > 0.0 {
@@ -1284,6 +1311,10 @@ fn trust_region(
             lo = lam;
         } else {
             hi = lam;
+            if stop_at_min_norm && reached_minimum_norm_step(lo, newton_norm, nz, inside_norm) {
+                break;
+            }
+            inside_norm = nz;
         }
         if hi - lo <= 1e-14 * hi {
             break;
@@ -1372,6 +1403,7 @@ impl Solver {
         let ws = &mut self.ws;
         ws.prepare(m, p);
         ws.hold_dead = options.hold_dead_columns;
+        ws.stop_at_min_norm = options.stop_at_minimum_norm_step;
         for i in 0..p {
             ws.lo[i] = lower[i];
             ws.hi[i] = upper[i];
@@ -2062,6 +2094,79 @@ mod tests {
         .with_gram()
     }
 
+    /// Counts the shifted factorizations of the model it wraps.
+    struct Counted<S> {
+        sub: S,
+        shifted: usize,
+    }
+
+    impl<S: Subproblem> Subproblem for Counted<S> {
+        fn n(&self) -> usize {
+            self.sub.n()
+        }
+        fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+            self.sub.newton(z)
+        }
+        fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+            self.shifted += 1;
+            self.sub.shifted(lam, z)
+        }
+        fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+            self.sub.inverse_norm(z, q)
+        }
+        fn bracket_data(&self) -> (f64, f64, f64) {
+            self.sub.bracket_data()
+        }
+        fn steepest_descent(&self, z: &mut [f64]) {
+            self.sub.steepest_descent(z)
+        }
+    }
+
+    /// A singular model whose minimum-norm step lies inside the region: with
+    /// `stop_at_min_norm` the iteration returns that step after a few factorizations; without
+    /// it, it runs to its 60-step limit.
+    #[test]
+    fn singular_model_stops_at_its_minimum_norm_step() {
+        // 0.5 ||u + T z||^2 with variable 1 dead: the minimum-norm minimiser solves
+        // 2 z0 + z2 = -0.2, 3 z2 = 0.3, z1 = 0, so z = (-0.15, 0, 0.1), of norm 0.18.
+        let n = 3;
+        let t = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0];
+        let u = [0.2, 0.0, -0.3];
+        let want = [-0.15, 0.0, 0.1];
+        let mut counts = vec![];
+        for stop in [true, false] {
+            let (mut t_lambda, mut u_lambda) = (vec![0.0; n * n], vec![0.0; n]);
+            let mut row = vec![0.0; shifted_scratch_len(n)];
+            let mut sub = Counted {
+                sub: LeastSquaresModel {
+                    n,
+                    t: &t,
+                    u: &u,
+                    t_lambda: &mut t_lambda,
+                    u_lambda: &mut u_lambda,
+                    row: &mut row,
+                },
+                shifted: 0,
+            };
+            let (mut z, mut best, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let tr = trust_region(&mut sub, 1.0, 0.0, stop, &mut z, &mut best, &mut q);
+            assert!(
+                !tr.is_newton && tr.newton_norm < 0.0,
+                "singular: no Newton step"
+            );
+            for (a, b) in z.iter().zip(&want) {
+                assert!((a - b).abs() < 1e-9, "stop {stop}: {z:?}");
+            }
+            counts.push(sub.shifted);
+        }
+        assert!(
+            counts[0] <= 10,
+            "with the stop: {} factorizations",
+            counts[0]
+        );
+        assert_eq!(counts[1], 60, "without it, the 60-step limit");
+    }
+
     /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.
     #[test]
     fn wide_model_matches_the_primal_model() {
@@ -2123,10 +2228,10 @@ mod tests {
                 row: &mut row,
             };
             let mut zp = vec![0.0; n];
-            let rp = trust_region(&mut primal, radius, 0.0, &mut zp, &mut best, &mut q);
+            let rp = trust_region(&mut primal, radius, 0.0, true, &mut zp, &mut best, &mut q);
             let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
             let mut zw = vec![0.0; n];
-            let rw = trust_region(&mut wide, radius, 0.0, &mut zw, &mut best, &mut q);
+            let rw = trust_region(&mut wide, radius, 0.0, true, &mut zw, &mut best, &mut q);
             // Within the region; on its boundary unless the minimum-norm Gauss-Newton step (the
             // limit lambda -> 0 of the singular model) is shorter.
             assert!(

@@ -6,7 +6,7 @@
 //!     [--algorithms aed,aers,rpls] [--k 10] [--instance-seed 1] [--target 0.11] [--verbose]
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
-//!     [--hold-dead-columns] [--singular-radius-at-least-x]
+//!     [--hold-dead-columns] [--singular-radius-at-least-x] [--stop-at-minimum-norm-step]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
 //! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
@@ -18,7 +18,10 @@
 //! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free).
 //! `--singular-radius-at-least-x` makes the singular-convergence test step at least `||D x||`
 //! long, as the library's default does (`bounded_lm::Options::singular_radius_at_least_x`; the
-//! searches use N2FB's LMAXS alone). `--no-early-exit` computes every full-data RMSE in full (the
+//! searches use N2FB's LMAXS alone). `--stop-at-minimum-norm-step` ends the search for the
+//! Levenberg parameter at a singular model's minimum-norm step, as the library's default does
+//! (`bounded_lm::Options::stop_at_minimum_norm_step`; the searches keep searching).
+//! `--no-early-exit` computes every full-data RMSE in full (the
 //! trials' decisions are the same; only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
 //! stall limit (0: off, as in the paper). The annealing kinds `sa`, `sals`, `avg`, `asa` run with
@@ -54,6 +57,7 @@ struct Args {
     adaptive_delay: usize,
     hold_dead_columns: bool,
     singular_radius_at_least_x: bool,
+    stop_at_minimum_norm_step: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -79,6 +83,9 @@ fn parse() -> Result<Args, String> {
         singular_radius_at_least_x: sls::DescentModel::default()
             .options()
             .singular_radius_at_least_x,
+        stop_at_minimum_norm_step: sls::DescentModel::default()
+            .options()
+            .stop_at_minimum_norm_step,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -89,6 +96,7 @@ fn parse() -> Result<Args, String> {
             "--gauss-newton" => Some((&mut a.gauss_newton, true)),
             "--hold-dead-columns" => Some((&mut a.hold_dead_columns, true)),
             "--singular-radius-at-least-x" => Some((&mut a.singular_radius_at_least_x, true)),
+            "--stop-at-minimum-norm-step" => Some((&mut a.stop_at_minimum_norm_step, true)),
             "--no-secant-scaling" => Some((&mut a.secant_scaling, false)),
             "--no-early-exit" => Some((&mut a.early_exit, false)),
             "--verbose" => Some((&mut a.verbose, true)),
@@ -274,6 +282,7 @@ fn main() {
                 ctx.set_adaptive_delay(args.adaptive_delay);
                 ctx.set_hold_dead_columns(args.hold_dead_columns);
                 ctx.set_singular_radius_at_least_x(args.singular_radius_at_least_x);
+                ctx.set_stop_at_minimum_norm_step(args.stop_at_minimum_norm_step);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

@@ -323,6 +323,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.singular_radius_at_least_x = on;
     }
 
+    /// Whether the descents stop the search for the Levenberg parameter at the minimum-norm
+    /// step of a singular model (`bounded_lm::Options::stop_at_minimum_norm_step`; off in the
+    /// searches, see [`DescentModel::options`]). For comparisons.
+    pub fn set_stop_at_minimum_norm_step(&mut self, on: bool) {
+        self.options.stop_at_minimum_norm_step = on;
+    }
+
     /// Secant updates per parameter before the descents' adaptive model choice may switch
     /// to the augmented model (`bounded_lm::Options::adaptive_delay`). For comparisons.
     pub fn set_adaptive_delay(&mut self, delay: usize) {

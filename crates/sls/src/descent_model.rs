@@ -58,6 +58,18 @@ impl DescentModel {
     /// tuning_bench -- [--hold-dead-columns]`). These were measured with the library's
     /// singular-convergence test step, before the searches took N2FB's (below).
     ///
+    /// For the same reason every choice keeps searching for the Levenberg parameter when a
+    /// singular model's minimum-norm step lies inside the region
+    /// ([`Options::stop_at_minimum_norm_step`] off). In one build and run, stopping there cut
+    /// AED's median CPU to target on the tuning instance in the raw exponent coordinate from
+    /// 3.64 to 2.40 ms and its median sample-evaluations from 196,147 to 169,768 (300 seeds),
+    /// and in log1p coordinates the medians of AED (108,292 -> 104,258), AERS (805,750 ->
+    /// 788,075) and RPLS (700,000 -> 680,000; 1000 seeds); but on the noiseless cross instance
+    /// AED's median rose from 886,319 to 1,574,817, AERS's from 1,143,400 to 1,287,625 and
+    /// RPLS's from 1,710,000 to 1,860,000 (300 seeds), and RPLS's in raw coordinates from
+    /// 4,770,000 to 5,230,000 (1000 seeds; `tuning_bench -- [--stop-at-minimum-norm-step]`,
+    /// 2026-12-02).
+    ///
     /// Every choice also runs N2FB's singular-convergence test, a test step of scaled length
     /// LMAXS alone ([`Options::singular_radius_at_least_x`] off): it can end a descent from a
     /// hopeless start at once with code 7, which in a search only shrinks the subsample or
@@ -79,6 +91,7 @@ impl DescentModel {
         Options {
             hold_dead_columns: false,
             singular_radius_at_least_x: false,
+            stop_at_minimum_norm_step: false,
             ..options
         }
     }
@@ -121,6 +134,7 @@ mod tests {
         let searches = Options {
             hold_dead_columns: false,
             singular_radius_at_least_x: false,
+            stop_at_minimum_norm_step: false,
             ..Options::default()
         };
         assert_eq!(DescentModel::Default.options(), searches);
@@ -129,14 +143,14 @@ mod tests {
             Options {
                 hold_dead_columns: false,
                 singular_radius_at_least_x: false,
+                stop_at_minimum_norm_step: false,
                 ..Options::n2fb()
             }
         );
-        assert!(
-            DescentModel::ALL
-                .iter()
-                .all(|m| !m.options().hold_dead_columns && !m.options().singular_radius_at_least_x)
-        );
+        assert!(DescentModel::ALL.iter().all(|m| {
+            let o = m.options();
+            !o.hold_dead_columns && !o.singular_radius_at_least_x && !o.stop_at_minimum_norm_step
+        }));
         assert_eq!(
             DescentModel::GaussNewton.options().model,
             StepModel::GaussNewton
