@@ -51,8 +51,8 @@ pub(crate) fn survey_columns(
     let mut out = |j: usize, s: (f64, f64, f64)| (sq[j], jr[j], amax[j]) = s;
     #[cfg(target_arch = "x86_64")]
     {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked just above).
+        if avx512::available() {
+            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
             unsafe { survey_columns_avx512(jac, r, m, p, &mut out) };
             return;
         }
@@ -262,8 +262,8 @@ pub(crate) fn upper_transpose_solve(t: &[f64], n: usize, b: &mut [f64]) {
 pub(crate) fn jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked just above).
+        if avx512::available() {
+            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
             unsafe { jt_vec_avx512(jac, v, m, p, out) };
             return;
         }
@@ -392,11 +392,7 @@ mod tests {
             };
             for (build, has, run) in [
                 ("avx2", std::arch::is_x86_feature_detected!("avx2"), avx2),
-                (
-                    "avx512",
-                    std::arch::is_x86_feature_detected!("avx512f"),
-                    avx512,
-                ),
+                ("avx512", crate::linalg::avx512::available(), avx512),
             ] {
                 if has {
                     let mut o = empty();

@@ -144,8 +144,8 @@ pub fn tall_qr(
     let scratch = &mut scratch[..tall_qr_scratch_len(cols)];
     #[cfg(target_arch = "x86_64")]
     {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked just above).
+        if crate::linalg::avx512::available() {
+            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
             unsafe { m.run_avx512(r, c, scratch) };
             return;
         }
@@ -708,7 +708,7 @@ mod tests {
             #[cfg(target_arch = "x86_64")]
             for (build, has) in [
                 ("avx2", std::arch::is_x86_feature_detected!("avx2")),
-                ("avx512", std::arch::is_x86_feature_detected!("avx512f")),
+                ("avx512", crate::linalg::avx512::available()),
             ] {
                 if !has {
                     continue;

@@ -9,11 +9,17 @@
 //! them). Eight rows per instruction halve the instructions of the loads, products and
 //! stores; the halves cost one extraction and two four-lane additions.
 //!
-//! Every function here requires AVX-512F: callers check `is_x86_feature_detected!("avx512f")`
-//! (or run inside a function that did).
+//! Every function here requires AVX-512F and AVX2: callers check [`available`] (or run
+//! inside a function that did).
 
 use super::avx2::lanes_sum;
 use std::arch::x86_64::*;
+
+/// Whether this CPU runs the functions of this module (and `crate::qr`'s AVX-512 build):
+/// AVX-512F and AVX2, both enabled in each of them.
+pub(crate) fn available() -> bool {
+    std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx2")
+}
 
 /// `acc + p`'s rows in the portable order: the four-lane accumulator `acc` adds the low half
 /// of the eight-row `p`, then its high half.

@@ -8,20 +8,20 @@ use crate::linalg::avx512::{accumulate, multi_dot};
 use std::arch::x86_64::*;
 
 /// The AVX-512 build of [`BlockOps`]. Only `TallQr::run_avx512` uses it, and that runs only
-/// after `is_x86_feature_detected!("avx512f")`: the safety argument of every `unsafe` call
-/// below.
+/// after `crate::linalg::avx512::available()` (AVX-512F and AVX2): the safety argument of
+/// every `unsafe` call below.
 pub(super) struct Avx512;
 
 impl BlockOps for Avx512 {
     #[inline(always)]
     fn multi_dot<const G: usize>(v: &[f64], cols: [&[f64]; G]) -> [f64; G] {
-        // SAFETY: the CPU has AVX-512F (see the type's docs).
+        // SAFETY: the CPU has AVX-512F and AVX2 (see the type's docs).
         unsafe { multi_dot(v, cols) }
     }
 
     #[inline(always)]
     fn sub_scaled<const G: usize>(v: &[f64], w: &[f64; G], cols: &mut [&mut [f64]; G]) {
-        // SAFETY: the CPU has AVX-512F (see the type's docs).
+        // SAFETY: the CPU has AVX-512F and AVX2 (see the type's docs).
         unsafe { sub_scaled_dot::<G, false>(v, w, cols, None) };
     }
 
@@ -32,7 +32,7 @@ impl BlockOps for Avx512 {
         cols: &mut [&mut [f64]; G],
         next: Option<&[f64]>,
     ) -> [f64; G] {
-        // SAFETY: the CPU has AVX-512F (see the type's docs).
+        // SAFETY: the CPU has AVX-512F and AVX2 (see the type's docs).
         unsafe { sub_scaled_dot::<G, true>(v, w, cols, next) }
     }
 
@@ -42,7 +42,7 @@ impl BlockOps for Avx512 {
         dst: &mut [&mut [f64]; G],
         next: Option<&[f64]>,
     ) -> [f64; G] {
-        // SAFETY: the CPU has AVX-512F (see the type's docs).
+        // SAFETY: the CPU has AVX-512F and AVX2 (see the type's docs).
         unsafe { load_scaled_dot(src, dst, next) }
     }
 }
