@@ -127,13 +127,14 @@ pub struct Options {
     /// converged to the minimum-norm Gauss-Newton step (default true; MINPACK's `lmpar` rule,
     /// Moré 1978). Without it a singular model whose minimum-norm step lies inside the region
     /// keeps dividing lambda by 1000 to the 60-step limit (lambda ~ 1e-180). In the searches'
-    /// descents (dead columns not held) a quarter of AED's calls in the raw exponent coordinate
-    /// did that, 40% of its CPU time (perf); stopping early cut its median CPU to target on the
-    /// tuning instance from 3.6 to 2.4 ms. But on the two-lobe cross instance AED then needed
-    /// 1.8 times the sample-evaluations (the moves of a dead lobe's parameters that only a tiny
-    /// lambda allows seem to be what revives it, as with [`Options::hold_dead_columns`]), so
-    /// the searches keep it off (`sls::DescentModel::options`). The Moré-Garbow-Hillstrom and
-    /// NIST tables are the same either way.
+    /// descents (dead columns not held) a quarter of AED's searches for lambda in the raw
+    /// exponent coordinate did that, 40% of its CPU time (perf); stopping early cut its median
+    /// CPU to target on the tuning instance from 3.6 to 2.4 ms. But on the two-lobe cross
+    /// instance AED then needed 1.8 times the sample-evaluations (the moves of a dead lobe's
+    /// parameters that only a tiny lambda allows seem to be what revives it, as with
+    /// [`Options::hold_dead_columns`]), so the searches keep it off
+    /// (`sls::DescentModel::options`). The Moré-Garbow-Hillstrom and NIST tables are the same
+    /// either way.
     pub stop_at_minimum_norm_step: bool,
     /// Quadratic model (default [`StepModel::Adaptive`] after [`Options::adaptive_delay`];
     /// [`StepModel::GaussNewton`] never uses the augmented model: see the crate docs).

@@ -36,11 +36,27 @@ fn lanes(v: __m256d) -> [f64; 4] {
 #[target_feature(enable = "avx2")]
 #[inline]
 pub(crate) fn multi_dot<const G: usize>(v: &[f64], cols: [&[f64]; G]) -> [f64; G] {
+    multi_dot_from(v, cols, 0, [_mm256_setzero_pd(); G])
+}
+
+/// [`multi_dot`] from row `start` (a multiple of 4) on, its lanes starting from `acc`: the
+/// rest of a sum that a wider build began.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn multi_dot_from<const G: usize>(
+    v: &[f64],
+    cols: [&[f64]; G],
+    start: usize,
+    mut acc: [__m256d; G],
+) -> [f64; G] {
     let n = v.len();
     let body = n - n % 4;
+    assert!(
+        start.is_multiple_of(4) && start <= body,
+        "start on a four-row boundary"
+    );
     let cols: [&[f64]; G] = std::array::from_fn(|g| &cols[g][..n]);
-    let mut acc = [_mm256_setzero_pd(); G];
-    for i in (0..body).step_by(4) {
+    for i in (start..body).step_by(4) {
         // SAFETY: i + 4 <= body <= n, and every slice has n entries.
         let x = unsafe { _mm256_loadu_pd(v.as_ptr().add(i)) };
         for g in 0..G {
@@ -63,14 +79,58 @@ pub(crate) fn multi_dot<const G: usize>(v: &[f64], cols: [&[f64]; G]) -> [f64; G
 #[target_feature(enable = "avx2")]
 #[inline]
 pub(crate) fn column_survey<const G: usize>(cols: [&[f64]; G], r: &[f64]) -> [(f64, f64, f64); G] {
+    let zero = [_mm256_setzero_pd(); G];
+    column_survey_from(
+        cols,
+        r,
+        0,
+        Survey {
+            sq: zero,
+            jr: zero,
+            lane_max: zero,
+        },
+    )
+}
+
+/// The lane accumulators of a column survey: sums of squares, sums of products with `r`, and
+/// largest magnitudes.
+#[derive(Clone, Copy)]
+pub(crate) struct Survey<const G: usize> {
+    pub(crate) sq: [__m256d; G],
+    pub(crate) jr: [__m256d; G],
+    pub(crate) lane_max: [__m256d; G],
+}
+
+/// `max(|x|, m)` per lane, with the portable comparison (`max_pd(a, m)` is `a > m ? a : m`).
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn max_abs(m: __m256d, x: __m256d) -> __m256d {
+    let abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+    _mm256_max_pd(_mm256_and_pd(x, abs_mask), m)
+}
+
+/// [`column_survey`] from row `start` (a multiple of 4) on, its lanes starting from `acc`.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn column_survey_from<const G: usize>(
+    cols: [&[f64]; G],
+    r: &[f64],
+    start: usize,
+    acc: Survey<G>,
+) -> [(f64, f64, f64); G] {
     let n = r.len();
     let body = n - n % 4;
+    assert!(
+        start.is_multiple_of(4) && start <= body,
+        "start on a four-row boundary"
+    );
     let cols: [&[f64]; G] = std::array::from_fn(|g| &cols[g][..n]);
-    let mut sq = [_mm256_setzero_pd(); G];
-    let mut jr = [_mm256_setzero_pd(); G];
-    let mut lane_max = [_mm256_setzero_pd(); G];
-    let abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
-    for i in (0..body).step_by(4) {
+    let Survey {
+        mut sq,
+        mut jr,
+        mut lane_max,
+    } = acc;
+    for i in (start..body).step_by(4) {
         // SAFETY: i + 4 <= body <= n, and every slice has n entries.
         let y = unsafe { _mm256_loadu_pd(r.as_ptr().add(i)) };
         for g in 0..G {
@@ -78,31 +138,18 @@ pub(crate) fn column_survey<const G: usize>(cols: [&[f64]; G], r: &[f64]) -> [(f
             let x = unsafe { _mm256_loadu_pd(cols[g].as_ptr().add(i)) };
             sq[g] = _mm256_add_pd(sq[g], _mm256_mul_pd(x, x));
             jr[g] = _mm256_add_pd(jr[g], _mm256_mul_pd(x, y));
-            // max_pd(a, m) is `a > m ? a : m`, the portable code's comparison.
-            lane_max[g] = _mm256_max_pd(_mm256_and_pd(x, abs_mask), lane_max[g]);
+            lane_max[g] = max_abs(lane_max[g], x);
         }
     }
-    std::array::from_fn(|g| survey_result(sq[g], jr[g], lane_max[g], &cols[g][body..], &r[body..]))
-}
-
-/// A column's survey from its lane accumulators and its tail rows (`col_tail`, `r_tail`):
-/// the sums as `dot` sums them, the largest magnitude as the portable code finds it.
-#[target_feature(enable = "avx2")]
-#[inline]
-pub(crate) fn survey_result(
-    sq: __m256d,
-    jr: __m256d,
-    lane_max: __m256d,
-    col_tail: &[f64],
-    r_tail: &[f64],
-) -> (f64, f64, f64) {
-    let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
-    let m = lanes(lane_max);
-    let mut amax = m[0].max(m[1]).max(m[2].max(m[3]));
-    for (x, y) in col_tail.iter().zip(r_tail) {
-        sq_tail += x * x;
-        jr_tail += x * y;
-        amax = amax.max(x.abs());
-    }
-    (lanes_sum(sq, sq_tail), lanes_sum(jr, jr_tail), amax)
+    std::array::from_fn(|g| {
+        let (mut sq_tail, mut jr_tail) = (0.0, 0.0);
+        let m = lanes(lane_max[g]);
+        let mut amax = m[0].max(m[1]).max(m[2].max(m[3]));
+        for (x, y) in cols[g][body..].iter().zip(&r[body..]) {
+            sq_tail += x * x;
+            jr_tail += x * y;
+            amax = amax.max(x.abs());
+        }
+        (lanes_sum(sq[g], sq_tail), lanes_sum(jr[g], jr_tail), amax)
+    })
 }
