@@ -1,5 +1,6 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
-//! radius rule, without the secant term in the scaling, and N2FB's configuration) and writes the per-problem table to
+//! radius rule, without the secant term in the scaling, with MINPACK's non-decreasing scaling,
+//! and N2FB's configuration) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
@@ -25,6 +26,10 @@ fn main() {
     };
     let configs = [
         Options::default(),
+        Options {
+            scaling_decay: 1.0,
+            ..Options::default()
+        },
         with(StepModel::GaussNewton, defaults.radius_update, true),
         with(StepModel::Adaptive, defaults.radius_update, true),
         with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
@@ -40,8 +45,13 @@ fn main() {
         } else {
             String::new()
         };
+        let decay = if options.scaling_decay == defaults.scaling_decay {
+            String::new()
+        } else {
+            format!(", scaling decay {} (MINPACK's)", options.scaling_decay)
+        };
         let label = format!(
-            "{model:?}{switch}, {radius_update:?} radius, {}",
+            "{model:?}{switch}, {radius_update:?} radius{decay}, {}",
             if !secant_scaling {
                 "no secant scaling".to_string()
             } else if options.secant_scaling_delay == 0 {

@@ -45,7 +45,8 @@ fn check(options: &Options, required: usize, forbid_wrong_success: bool) {
 /// The defaults (the adaptive model switching after 2 secant updates per parameter, N2FB's
 /// radius rule, the secant term in the scaling): at least 52/54 with LRE >= 4 (PORT N2FB:
 /// 46/54), and a success code (3..=6) is never returned on a wrong answer; the same with the
-/// Gauss-Newton model (the default before 2026-12-02), with and without the secant scaling.
+/// Gauss-Newton model (the default before 2026-12-02), with and without the secant scaling,
+/// and with MINPACK's scaling.
 #[test]
 fn nist_defaults_and_gauss_newton() {
     let defaults = Options::default();
@@ -64,6 +65,13 @@ fn nist_defaults_and_gauss_newton() {
         ..gauss_newton
     };
     check(&no_secant, 52, true);
+    // MINPACK's non-decreasing scaling (Options::scaling_decay 1): the same count, as the
+    // crate docs say.
+    let minpack = Options {
+        scaling_decay: 1.0,
+        ..Options::default()
+    };
+    check(&minpack, 52, true);
 }
 
 /// The adaptive (NL2SOL augmented) model without the secant scaling: 52/54 since the model

@@ -408,3 +408,60 @@ fn mgh_collection_other_scalings() {
         assert!(solved >= at_least, "{name}: {summary}\n{table}");
     }
 }
+
+/// The scaling's decay (`Options::scaling_decay`, NL2SOL's DFAC) trades one kind of problem for
+/// another, as the crate docs say. With MINPACK's non-decreasing scaling (1) Penalty II
+/// (n = 10), a curved valley, is solved from x0 where N2FB's 0.6 creeps to the iteration limit;
+/// but an exponential started steep (Jacobian columns ~1e13 at the start, ~1 at the solution)
+/// is solved only when `D` may fall with its columns.
+#[test]
+fn scaling_decay_trades_curved_valleys_for_steep_starts() {
+    let minpack = Options {
+        scaling_decay: 1.0,
+        ..Options::default()
+    };
+    let penalty = |options: &Options| {
+        let mut p = Mgh::new(Kind::PenaltyII, 10, 20);
+        let mut x = p.start(1.0);
+        let rep = Solver::new()
+            .solve(&mut p, &mut x, &[-INF; 10], &[INF; 10], options)
+            .unwrap();
+        let f_star = p.f_minima()[0];
+        (rep, (rep.f - f_star).abs() <= 1e-5 * f_star)
+    };
+    let (rep, solved) = penalty(&minpack);
+    assert!(solved && rep.outcome.is_success(), "{rep:?}");
+    let (rep, solved) = penalty(&Options::default());
+    assert!(!solved && rep.outcome == Outcome::IterationLimit, "{rep:?}");
+
+    let steep = |options: &Options| {
+        let mut x = [1.0, 30.0];
+        let rep = Solver::new()
+            .solve(&mut SteepExp, &mut x, &[-INF; 2], &[INF; 2], options)
+            .unwrap();
+        (rep, (x[0] - 2.0).abs() < 1e-6 && (x[1] - 0.5).abs() < 1e-6)
+    };
+    let (rep, solved) = steep(&Options::default());
+    assert!(solved && rep.outcome.is_success(), "{rep:?}");
+    let (rep, solved) = steep(&minpack);
+    assert!(
+        !solved && rep.outcome == Outcome::SingularConvergence,
+        "{rep:?}"
+    );
+}
+
+/// An out-of-range scaling decay is refused with an error naming the option.
+#[test]
+fn scaling_decay_outside_zero_to_one_is_refused() {
+    for decay in [0.0, -0.5, 1.5, f64::NAN] {
+        let options = Options {
+            scaling_decay: decay,
+            ..Options::default()
+        };
+        let mut x = [1.0, 30.0];
+        let err = Solver::new()
+            .solve(&mut SteepExp, &mut x, &[-INF; 2], &[INF; 2], &options)
+            .unwrap_err();
+        assert!(err.to_string().contains("scaling_decay"), "{decay}: {err}");
+    }
+}

@@ -7,6 +7,7 @@
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
 //!     [--hold-dead-columns] [--singular-radius-at-least-x] [--stop-at-minimum-norm-step]
+//!     [--scaling-decay 0.6]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
 //! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
@@ -21,6 +22,8 @@
 //! searches use N2FB's LMAXS alone). `--stop-at-minimum-norm-step` ends the search for the
 //! Levenberg parameter at a singular model's minimum-norm step, as the library's default does
 //! (`bounded_lm::Options::stop_at_minimum_norm_step`; the searches keep searching).
+//! `--scaling-decay F` sets how fast the descents' scaling may fall
+//! (`bounded_lm::Options::scaling_decay`; N2FB's 0.6 by default, 1 is MINPACK's rule).
 //! `--no-early-exit` computes every full-data RMSE in full (the
 //! trials' decisions are the same; only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
@@ -58,6 +61,7 @@ struct Args {
     hold_dead_columns: bool,
     singular_radius_at_least_x: bool,
     stop_at_minimum_norm_step: bool,
+    scaling_decay: f64,
 }
 
 fn parse() -> Result<Args, String> {
@@ -86,6 +90,7 @@ fn parse() -> Result<Args, String> {
         stop_at_minimum_norm_step: sls::DescentModel::default()
             .options()
             .stop_at_minimum_norm_step,
+        scaling_decay: sls::DescentModel::default().options().scaling_decay,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -112,6 +117,7 @@ fn parse() -> Result<Args, String> {
             "--seeds" => a.seeds = value.parse().map_err(|e| bad(&e))?,
             "--secant-delay" => a.secant_delay = value.parse().map_err(|e| bad(&e))?,
             "--adaptive-delay" => a.adaptive_delay = value.parse().map_err(|e| bad(&e))?,
+            "--scaling-decay" => a.scaling_decay = value.parse().map_err(|e| bad(&e))?,
             "--cutoff" => a.cutoff = value.parse().map_err(|e| bad(&e))?,
             "--instance-seed" => a.instance_seed = value.parse().map_err(|e| bad(&e))?,
             "--target" => a.target = value.parse().map_err(|e| bad(&e))?,
@@ -283,6 +289,7 @@ fn main() {
                 ctx.set_hold_dead_columns(args.hold_dead_columns);
                 ctx.set_singular_radius_at_least_x(args.singular_radius_at_least_x);
                 ctx.set_stop_at_minimum_norm_step(args.stop_at_minimum_norm_step);
+                ctx.set_scaling_decay(args.scaling_decay);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);
                 cpu_all += r.ended_at.cpu_seconds;

@@ -330,6 +330,12 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.stop_at_minimum_norm_step = on;
     }
 
+    /// How fast the descents' scaling may fall (`bounded_lm::Options::scaling_decay`, N2FB's
+    /// DFAC 0.6 by default; 1 is MINPACK's non-decreasing scaling). For comparisons.
+    pub fn set_scaling_decay(&mut self, decay: f64) {
+        self.options.scaling_decay = decay;
+    }
+
     /// Secant updates per parameter before the descents' adaptive model choice may switch
     /// to the augmented model (`bounded_lm::Options::adaptive_delay`). For comparisons.
     pub fn set_adaptive_delay(&mut self, delay: usize) {

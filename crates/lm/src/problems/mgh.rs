@@ -395,6 +395,7 @@ pub fn box_reference_options() -> Options {
         max_iterations: 5000,
         max_evaluations: 5000,
         model: StepModel::GaussNewton,
+        scaling_decay: Options::NL2SOL_SCALING_DECAY,
         ..Options::default()
     }
 }

@@ -395,12 +395,17 @@ fn exchangeable_groups(name: &str) -> &'static [&'static [usize]] {
 }
 
 /// Smallest LRE over the parameters, for the best ordering of exchangeable terms; Gaussian
-/// widths enter squared, so their sign is irrelevant.
+/// widths enter squared, so their sign is irrelevant, and Eckerle4's model
+/// `(b1/b2) exp(-0.5 ((x - b3)/b2)^2)` is the same at `(-b1, -b2, b3)`.
 pub fn min_lre(name: &str, x: &[f64], cert: &[f64]) -> f64 {
     let mut y: Vec<f64> = x.to_vec();
     if name.starts_with("Gauss") {
         y[4] = y[4].abs();
         y[7] = y[7].abs();
+    }
+    if name == "Eckerle4" && y[1] < 0.0 {
+        y[0] = -y[0];
+        y[1] = -y[1];
     }
     let plain = |v: &[f64]| {
         v.iter()
