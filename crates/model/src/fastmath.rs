@@ -10,6 +10,13 @@
 //! Accuracy: `ln` follows fdlibm's `__ieee754_log` (< 1 ulp); `exp` uses a degree-11 Taylor
 //! polynomial on `|r| <= ln2/2` (truncation error < 7e-15 relative) and exact scaling by
 //! `2^k` in two steps so overflow gives `+inf` and underflow goes gradually to 0.
+//!
+//! The lobe loops run each stage over a chunk of samples, so they can check the chunk first
+//! and take shorter forms that give the same bits where they apply: [`ln_normal`] when no `d`
+//! is subnormal ([`no_subnormal`]) and [`exp_normal`] when every argument is within
+//! ±[`EXP_NORMAL_MAX`] ([`all_exp_normal`]), which is nearly always. Measured with
+//! `cpu_throughput` (2026-12-03): values 8.0-8.8 to 6.6-7.6 ns per lobe-sample portable, 2.8-3.1
+//! to 2.3-2.7 AVX2.
 
 // Constants are copied digit for digit from fdlibm so they can be checked against it.
 #![allow(clippy::excessive_precision)]
@@ -63,16 +70,48 @@ fn sel(c: bool, a: f64, b: f64) -> f64 {
 /// callers substitute 1 for `d <= 0` first.
 #[inline(always)]
 pub fn ln_pos<A: MulAdd>(d: f64) -> f64 {
-    let sub = d < f64::MIN_POSITIVE;
-    let d = sel(sub, d * 18014398509481984.0, d); // * 2^54
+    ln_core::<A, true>(d)
+}
+
+/// [`ln_pos`] for a normal positive `d` (not checked), bit for bit the same there: without the
+/// rescaling of subnormals. A chunk of a lobe loop takes this path when no `d` in it is
+/// subnormal ([`no_subnormal`]).
+#[inline(always)]
+pub fn ln_normal<A: MulAdd>(d: f64) -> f64 {
+    ln_core::<A, false>(d)
+}
+
+/// Whether no entry of `ds` is a positive subnormal (the only inputs of [`ln_clamped`] that
+/// need [`ln_pos`]'s rescaling: `d <= 0` is replaced by 1).
+#[inline(always)]
+pub fn no_subnormal(ds: &[f64]) -> bool {
+    let mut out = 0u64;
+    for &d in ds {
+        out |= u64::from(d > 0.0 && d < f64::MIN_POSITIVE);
+    }
+    out == 0
+}
+
+#[inline(always)]
+fn ln_core<A: MulAdd, const SUBNORMAL: bool>(d: f64) -> f64 {
+    let sub = SUBNORMAL && d < f64::MIN_POSITIVE;
+    let d = if SUBNORMAL {
+        sel(sub, d * 18014398509481984.0, d) // * 2^54
+    } else {
+        d
+    };
     let bits = d.to_bits();
     let ebits = bits >> 52;
     let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | 0x3FF0_0000_0000_0000);
     let big = m > SQRT2;
     let m = sel(big, m * 0.5, m);
     // The biased exponent as a float without an int->float conversion instruction.
-    let e = f64::from_bits(ebits | 0x4330_0000_0000_0000) - TWO52 - 1023.0 + sel(big, 1.0, 0.0)
-        - sel(sub, 54.0, 0.0);
+    let e = f64::from_bits(ebits | 0x4330_0000_0000_0000) - TWO52 - 1023.0 + sel(big, 1.0, 0.0);
+    let e = if SUBNORMAL {
+        e - sel(sub, 54.0, 0.0)
+    } else {
+        e
+    };
     let f = m - 1.0;
     let s = f / (2.0 + f);
     let z = s * s;
@@ -120,10 +159,63 @@ pub fn exp<A: MulAdd>(x: f64) -> f64 {
     sel(x.is_nan(), x, y)
 }
 
+/// Largest `|x|` for which [`exp_normal`] equals [`exp`]: `k = round(x log2 e)` stays within
+/// ±1010, so `p 2^k` (`p` in [0.7, 1.42]) is a normal number and one exact scaling gives the
+/// same bits as the two-step one.
+pub const EXP_NORMAL_MAX: f64 = 700.0;
+
+/// `e^x` for `|x| <= EXP_NORMAL_MAX` (not checked): [`exp`] without the clamps, the two-step
+/// scaling and the NaN select, bit for bit the same there. A whole chunk of a lobe loop takes
+/// this path when every argument is in range ([`all_exp_normal`]), about 12 of `exp`'s 45
+/// vector operations fewer.
+#[inline(always)]
+pub fn exp_normal<A: MulAdd>(x: f64) -> f64 {
+    let k = A::mad(x, LOG2E, MAGIC) - MAGIC;
+    let r = A::mad(-k, LN2_LO, x - k * LN2_HI);
+    let mut p = 1.0 / 39916800.0;
+    p = A::mad(p, r, 1.0 / 3628800.0);
+    p = A::mad(p, r, 1.0 / 362880.0);
+    p = A::mad(p, r, 1.0 / 40320.0);
+    p = A::mad(p, r, 1.0 / 5040.0);
+    p = A::mad(p, r, 1.0 / 720.0);
+    p = A::mad(p, r, 1.0 / 120.0);
+    p = A::mad(p, r, 1.0 / 24.0);
+    p = A::mad(p, r, 1.0 / 6.0);
+    p = A::mad(p, r, 0.5);
+    p = A::mad(p, r, 1.0);
+    p = A::mad(p, r, 1.0);
+    p * pow2i(k)
+}
+
+/// Whether every `n l` (the exponential's argument in [`pow_from_ln`]) is within
+/// [`EXP_NORMAL_MAX`]; false for NaN.
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn all_exp_normal(n: f64, ls: &[f64]) -> bool {
+    let mut out = 0u64;
+    for &l in ls {
+        // `!(a <= b)` is true for NaN as well as for out-of-range values.
+        out |= u64::from(!((n * l).abs() <= EXP_NORMAL_MAX));
+    }
+    out == 0
+}
+
+/// [`pow_from_ln`] when the caller knows `|n l| <= EXP_NORMAL_MAX` ([`all_exp_normal`]).
+#[inline(always)]
+pub fn pow_from_ln_normal<A: MulAdd>(d: f64, n: f64, l: f64) -> f64 {
+    sel(d > 0.0, exp_normal::<A>(n * l), 0.0)
+}
+
 /// `ln d`, or 0 when `d <= 0`: the first stage of the lobe kernel.
 #[inline(always)]
 pub fn ln_clamped<A: MulAdd>(d: f64) -> f64 {
     ln_pos::<A>(sel(d > 0.0, d, 1.0))
+}
+
+/// [`ln_clamped`] when no `d` is a positive subnormal ([`no_subnormal`]).
+#[inline(always)]
+pub fn ln_clamped_normal<A: MulAdd>(d: f64) -> f64 {
+    ln_normal::<A>(sel(d > 0.0, d, 1.0))
 }
 
 /// `max(0, d)^n` from `l = ln_clamped(d)`: the second stage. `d <= 0` gives 0 for every `n`;
@@ -144,6 +236,62 @@ fn pow_clamped<A: MulAdd>(d: f64, n: f64) -> (f64, f64) {
 mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
+
+    /// The chunk fast paths give the very bits of the general functions wherever their
+    /// guards let them run, including the edges of the guarded ranges.
+    #[test]
+    fn fast_paths_equal_the_general_functions_bit_for_bit() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+        let mut xs: Vec<f64> = (0..200_000)
+            .map(|_| rng.random_range(-EXP_NORMAL_MAX..=EXP_NORMAL_MAX))
+            .collect();
+        xs.extend([EXP_NORMAL_MAX, -EXP_NORMAL_MAX, 0.0, -0.0, 1e-300, -1e-300]);
+        for &x in &xs {
+            assert_eq!(
+                exp_normal::<Plain>(x).to_bits(),
+                exp::<Plain>(x).to_bits(),
+                "{x}"
+            );
+            assert_eq!(
+                exp_normal::<Fused>(x).to_bits(),
+                exp::<Fused>(x).to_bits(),
+                "{x}"
+            );
+        }
+        let mut ds: Vec<f64> = (0..200_000)
+            .map(|_| 10f64.powf(rng.random_range(-307.6..308.0)))
+            .collect();
+        ds.extend([
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            1.0,
+            SQRT2,
+            f64::from_bits(SQRT2.to_bits() + 1),
+        ]);
+        for &d in &ds {
+            assert_eq!(
+                ln_normal::<Plain>(d).to_bits(),
+                ln_pos::<Plain>(d).to_bits(),
+                "{d}"
+            );
+            assert_eq!(
+                ln_normal::<Fused>(d).to_bits(),
+                ln_pos::<Fused>(d).to_bits(),
+                "{d}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_guards_refuse_what_the_fast_paths_cannot_do() {
+        assert!(all_exp_normal(2.0, &[350.0, -350.0, 0.0]));
+        assert!(!all_exp_normal(2.0, &[0.0, 350.1]));
+        assert!(!all_exp_normal(1.0, &[0.0, f64::NAN]));
+        assert!(!all_exp_normal(f64::INFINITY, &[1.0]));
+        assert!(no_subnormal(&[f64::MIN_POSITIVE, 0.0, -1e-310, 1.0]));
+        assert!(!no_subnormal(&[1.0, 1e-310]));
+        assert!(!no_subnormal(&[5e-324]));
+    }
 
     #[test]
     fn ln_and_exp_match_libm() {
