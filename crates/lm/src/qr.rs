@@ -272,13 +272,35 @@ fn load_group<'s, V: BlockOps>(
     dots: &mut [f64],
 ) {
     let g = group.len().div_ceil(LD);
-    let out = match g {
-        4 => load_columns::<V, 4>(group, first, nb, next, source),
-        3 => load_columns::<V, 3>(group, first, nb, next, source),
-        2 => load_columns::<V, 2>(group, first, nb, next, source),
-        _ => load_columns::<V, 1>(group, first, nb, next, source),
-    };
-    dots[first..first + g].copy_from_slice(&out[..g]);
+    match g {
+        4 => put::<4>(
+            dots,
+            first,
+            load_columns::<V, 4>(group, first, nb, next, source),
+        ),
+        3 => put::<3>(
+            dots,
+            first,
+            load_columns::<V, 3>(group, first, nb, next, source),
+        ),
+        2 => put::<2>(
+            dots,
+            first,
+            load_columns::<V, 2>(group, first, nb, next, source),
+        ),
+        _ => put::<1>(
+            dots,
+            first,
+            load_columns::<V, 1>(group, first, nb, next, source),
+        ),
+    }
+}
+
+/// `dots[first..first + G] = out[..G]`: with the length a constant the copy is a few moves,
+/// where a slice of run-time length was a call to `memcpy` (1.2% of an RPLS profile).
+#[inline(always)]
+fn put<const G: usize>(dots: &mut [f64], first: usize, out: [f64; 4]) {
+    dots[first..first + G].copy_from_slice(&out[..G]);
 }
 
 /// [`load_group`] for a group of `G` columns.
@@ -437,15 +459,28 @@ impl Reflector {
             *wg = self.beta * (self.v0 * *top + dots[j]);
             *top -= *wg * self.v0;
         }
-        let out = match g {
-            4 => update::<V, 4>(bk, group, nb, &w, next, has_next),
-            3 => update::<V, 3>(bk, group, nb, &w, next, has_next),
-            2 => update::<V, 2>(bk, group, nb, &w, next, has_next),
-            _ => update::<V, 1>(bk, group, nb, &w, next, has_next),
-        };
-        if has_next {
-            dots[first..first + g].copy_from_slice(&out[..g]);
+        let args = (bk, nb, &w, next, has_next);
+        match g {
+            4 => update_into::<V, 4>(group, args, dots, first),
+            3 => update_into::<V, 3>(group, args, dots, first),
+            2 => update_into::<V, 2>(group, args, dots, first),
+            _ => update_into::<V, 1>(group, args, dots, first),
         }
+    }
+}
+
+/// [`update`] of a group of `G` columns, its dot products (with `has_next`) stored at
+/// `dots[first..first + G]`.
+#[inline(always)]
+fn update_into<V: BlockOps, const G: usize>(
+    group: &mut [f64],
+    (bk, nb, w, next, has_next): (&[f64], usize, &[f64; 4], Option<&[f64]>, bool),
+    dots: &mut [f64],
+    first: usize,
+) {
+    let out = update::<V, G>(bk, group, nb, w, next, has_next);
+    if has_next {
+        put::<G>(dots, first, out);
     }
 }
 

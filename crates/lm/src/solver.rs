@@ -853,11 +853,13 @@ impl Workspace {
 
     /// Accepts the trial point: the current point becomes the previous one.
     fn accept_trial(&mut self) {
-        let (m, p) = (self.m, self.p);
+        let p = self.p;
         self.x_prev[..p].copy_from_slice(&self.x[..p]);
-        self.r_prev[..m].copy_from_slice(&self.r[..m]);
         self.g_prev[..p].copy_from_slice(&self.g[..p]);
         self.x[..p].copy_from_slice(&self.x_trial[..p]);
+        // The residual buffers rotate (r -> r_prev, r_trial -> r; the old r_prev becomes the
+        // next trial's scratch) instead of copying m values per accepted step.
+        std::mem::swap(&mut self.r_prev, &mut self.r);
         std::mem::swap(&mut self.r, &mut self.r_trial);
     }
 
