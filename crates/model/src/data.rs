@@ -269,9 +269,18 @@ impl DataSet {
             (&mut out.pxy, &self.pxy),
             (&mut out.pzz, &self.pzz),
         ];
-        for (dst, from) in cols {
-            let kept = rows.iter().filter(|&&r| (r as usize) < n);
-            dst.extend(kept.map(|&r| from[r as usize]));
+        if rows.iter().all(|&r| (r as usize) < n) {
+            // The usual case: a map over the slice has an exact length, so `extend` writes
+            // without a capacity check per element (the filtered form below was 3.9% of
+            // AED's CPU time on the tuning instance, perf).
+            for (dst, from) in cols {
+                dst.extend(rows.iter().map(|&r| from[r as usize]));
+            }
+        } else {
+            for (dst, from) in cols {
+                let kept = rows.iter().filter(|&&r| (r as usize) < n);
+                dst.extend(kept.map(|&r| from[r as usize]));
+            }
         }
     }
 
