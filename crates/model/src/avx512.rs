@@ -96,6 +96,9 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
     (_mm512_maskz_mov_pd(pos, f), _mm512_maskz_mov_pd(pos, l))
 }
 
+/// Vectors of 8 lanes per iteration of the unrolled loops.
+const UNROLL: usize = 2;
+
 /// Loads lanes `i..i+8` of `v` (masked to `mask`; masked lanes read as 0).
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -112,26 +115,6 @@ fn store(v: &mut [f64], i: usize, mask: __mmask8, x: __m512d) {
     debug_assert!(i + (mask.count_ones() as usize) <= v.len());
     // SAFETY: as in `load`.
     unsafe { _mm512_mask_storeu_pd(v.as_mut_ptr().add(i), mask, x) }
-}
-
-/// The clamped-product argument `d` of one lobe for lanes `i..i+8`.
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn lobe_d(c: &[f64; 4], with_r: bool, d: &View<'_>, i: usize, mask: __mmask8) -> __m512d {
-    let ux = load(d.ux, i, mask);
-    let uy = load(d.uy, i, mask);
-    let uz = load(d.uz, i, mask);
-    let vx = load(d.vx, i, mask);
-    let vy = load(d.vy, i, mask);
-    let vz = load(d.vz, i, mask);
-    let mut dd = _mm512_mul_pd(splat(c[3]), _mm512_mul_pd(uz, vz));
-    dd = _mm512_fmadd_pd(splat(c[1]), _mm512_mul_pd(uy, vy), dd);
-    dd = _mm512_fmadd_pd(splat(c[0]), _mm512_mul_pd(ux, vx), dd);
-    if with_r {
-        let r = _mm512_fmadd_pd(ux, vy, _mm512_mul_pd(uy, vx));
-        dd = _mm512_fmadd_pd(splat(c[2]), r, dd);
-    }
-    dd
 }
 
 /// Lane masks covering `0..m` in steps of 8.
@@ -166,8 +149,27 @@ pub(crate) unsafe fn lobe_values(
 ) {
     let nn = splat(n);
     let mut keep = keep;
-    for (i, mask) in lanes(out.len()) {
-        let dd = lobe_d(c, with_r, d, i, mask);
+    let m = out.len();
+    // UNROLL vectors per iteration: one `d^n` is a long dependency chain (the logarithm's
+    // division and two polynomials), and independent chains in one block let the core overlap
+    // them. Each lane's operations are the same, so are the bits.
+    let pairs = m / (8 * UNROLL) * (8 * UNROLL);
+    for i in (0..pairs).step_by(8 * UNROLL) {
+        let dd: [__m512d; UNROLL] =
+            std::array::from_fn(|k| products(c, with_r, d, i + 8 * k, 0xFF).1);
+        let fl: [(__m512d, __m512d); UNROLL] = std::array::from_fn(|k| pow_clamped(dd[k], nn));
+        for (k, &(f, l)) in fl.iter().enumerate() {
+            let at = i + 8 * k;
+            let o = load(out, at, 0xFF);
+            store(out, at, 0xFF, _mm512_add_pd(o, f));
+            if let Some((kf, kl)) = keep.as_mut() {
+                store(kf, at, 0xFF, f);
+                store(kl, at, 0xFF, l);
+            }
+        }
+    }
+    for (i, mask) in lanes(m - pairs).map(|(i, mask)| (i + pairs, mask)) {
+        let dd = products(c, with_r, d, i, mask).1;
         let (f, l) = pow_clamped(dd, nn);
         let o = load(out, i, mask);
         store(out, i, mask, _mm512_add_pd(o, f));
@@ -205,68 +207,142 @@ pub(crate) unsafe fn lobe_jacobian(
     cached: Option<(&[f64], &[f64])>,
 ) -> bool {
     let nn = splat(n);
-    let zero = _mm512_setzero_pd();
-    let inf = splat(f64::INFINITY);
-    let has_n = cols[3].is_some();
     // g = n d^n / d without a spurious overflow of n d^n (see `g_factors`).
     let (ga, gb) = crate::eval::g_factors(n);
-    let (ga, gb) = (splat(ga), splat(gb));
+    let k = JacConsts {
+        n_is_zero: n == 0.0,
+        ga: splat(ga),
+        gb: splat(gb),
+        n_scale: splat(n_scale),
+        has_n: cols[3].is_some(),
+    };
+    let power = |dd: __m512d, at: usize, mask: __mmask8| match cached {
+        Some((cf, cl)) => (load(cf, at, mask), load(cl, at, mask)),
+        None => pow_clamped(dd, nn),
+    };
+    let m = out.len();
     let mut bad: __mmask8 = 0;
-    for (i, mask) in lanes(out.len()) {
-        let ux = load(d.ux, i, mask);
-        let uy = load(d.uy, i, mask);
-        let uz = load(d.uz, i, mask);
-        let vx = load(d.vx, i, mask);
-        let vy = load(d.vy, i, mask);
-        let vz = load(d.vz, i, mask);
-        let p = _mm512_mul_pd(ux, vx);
-        let q = _mm512_mul_pd(uy, vy);
-        let r = _mm512_fmadd_pd(ux, vy, _mm512_mul_pd(uy, vx));
-        let s = _mm512_mul_pd(uz, vz);
-        let mut dd = _mm512_mul_pd(splat(c[3]), s);
-        dd = _mm512_fmadd_pd(splat(c[1]), q, dd);
-        dd = _mm512_fmadd_pd(splat(c[0]), p, dd);
-        if with_r {
-            dd = _mm512_fmadd_pd(splat(c[2]), r, dd);
-        }
-        let (f, l) = match cached {
-            Some((cf, cl)) => (load(cf, i, mask), load(cl, i, mask)),
-            None => pow_clamped(dd, nn),
-        };
-        let o = load(out, i, mask);
-        store(out, i, mask, _mm512_add_pd(o, f));
-        let pos = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(dd, zero);
-        let den = _mm512_mask_blend_pd(pos, splat(1.0), dd);
-        // n = 0 must give 0 even when d^n / d overflows.
-        let g = if n == 0.0 {
-            zero
-        } else {
-            _mm512_mul_pd(_mm512_div_pd(_mm512_mul_pd(f, ga), den), gb)
-        };
-        let h = _mm512_mul_pd(_mm512_mul_pd(f, l), splat(n_scale));
-        // |v| < inf is false for inf and NaN.
-        // h only matters (and is only checked, as in the generic loops) when n is free.
-        let ok_h = if has_n {
-            _mm512_cmp_pd_mask::<_CMP_LT_OQ>(_mm512_abs_pd(h), inf)
-        } else {
-            0xFF
-        };
-        let ok = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(_mm512_abs_pd(g), inf) & ok_h;
-        bad |= mask & !ok;
-        for (k, col) in cols.iter_mut().enumerate() {
-            let Some(col) = col else { continue };
-            let v = if k == 3 {
-                h
-            } else {
-                let w = &rows[k];
-                let mut t = _mm512_mul_pd(splat(w[3]), s);
-                t = _mm512_fmadd_pd(splat(w[0]), p, t);
-                t = _mm512_fmadd_pd(splat(w[1]), q, t);
-                t = _mm512_fmadd_pd(splat(w[2]), r, t);
-                _mm512_mul_pd(g, t)
+    // Two vectors per iteration, as in `lobe_values`: two independent `d^n` chains in one
+    // block. The same operations per lane, so the same bits.
+    let pairs = m / (8 * UNROLL) * (8 * UNROLL);
+    for i in (0..pairs).step_by(8 * UNROLL) {
+        let pd: [([__m512d; 4], __m512d); UNROLL] =
+            std::array::from_fn(|j| products(c, with_r, d, i + 8 * j, 0xFF));
+        let fl: [(__m512d, __m512d); UNROLL] =
+            std::array::from_fn(|j| power(pd[j].1, i + 8 * j, 0xFF));
+        for j in 0..UNROLL {
+            let lanes = Lanes {
+                at: i + 8 * j,
+                mask: 0xFF,
             };
-            store(col, i, mask, v);
+            bad |= jacobian_lanes(lanes, pd[j], fl[j], &k, out, cols, rows);
         }
     }
+    for (at, mask) in lanes(m - pairs).map(|(i, mask)| (i + pairs, mask)) {
+        let pd = products(c, with_r, d, at, mask);
+        let fl = power(pd.1, at, mask);
+        bad |= jacobian_lanes(Lanes { at, mask }, pd, fl, &k, out, cols, rows);
+    }
     bad == 0
+}
+
+/// What [`jacobian_lanes`] needs of the lobe: whether `n = 0`, the factors of `g` (see
+/// `g_factors`), `d(n)/d(coordinate)` and whether the exponent's column is free.
+struct JacConsts {
+    n_is_zero: bool,
+    ga: __m512d,
+    gb: __m512d,
+    n_scale: __m512d,
+    has_n: bool,
+}
+
+/// Lanes `at..at + 8` selected by `mask`.
+#[derive(Clone, Copy)]
+struct Lanes {
+    at: usize,
+    mask: __mmask8,
+}
+
+/// The direction products `[P, Q, R, S]` and the argument `d` of one lobe for lanes
+/// `i..i+8` (masked lanes read as 0).
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn products(
+    c: &[f64; 4],
+    with_r: bool,
+    d: &View<'_>,
+    i: usize,
+    mask: __mmask8,
+) -> ([__m512d; 4], __m512d) {
+    let ux = load(d.ux, i, mask);
+    let uy = load(d.uy, i, mask);
+    let uz = load(d.uz, i, mask);
+    let vx = load(d.vx, i, mask);
+    let vy = load(d.vy, i, mask);
+    let vz = load(d.vz, i, mask);
+    let p = _mm512_mul_pd(ux, vx);
+    let q = _mm512_mul_pd(uy, vy);
+    let r = _mm512_fmadd_pd(ux, vy, _mm512_mul_pd(uy, vx));
+    let s = _mm512_mul_pd(uz, vz);
+    let mut dd = _mm512_mul_pd(splat(c[3]), s);
+    dd = _mm512_fmadd_pd(splat(c[1]), q, dd);
+    dd = _mm512_fmadd_pd(splat(c[0]), p, dd);
+    if with_r {
+        dd = _mm512_fmadd_pd(splat(c[2]), r, dd);
+    }
+    ([p, q, r, s], dd)
+}
+
+/// Adds `f = d^n` to `out` and writes the lobe's columns for one set of lanes (see
+/// [`lobe_jacobian`]); returns the selected lanes whose `g` (or, with the exponent free, `h`)
+/// is not finite.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn jacobian_lanes(
+    lanes: Lanes,
+    (pqrs, dd): ([__m512d; 4], __m512d),
+    (f, l): (__m512d, __m512d),
+    k: &JacConsts,
+    out: &mut [f64],
+    cols: &mut [Option<&mut [f64]>; 5],
+    rows: &[[f64; 4]; 5],
+) -> __mmask8 {
+    let Lanes { at, mask } = lanes;
+    let zero = _mm512_setzero_pd();
+    let inf = splat(f64::INFINITY);
+    let [p, q, r, s] = pqrs;
+    let o = load(out, at, mask);
+    store(out, at, mask, _mm512_add_pd(o, f));
+    let pos = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(dd, zero);
+    let den = _mm512_mask_blend_pd(pos, splat(1.0), dd);
+    // n = 0 must give 0 even when d^n / d overflows.
+    let g = if k.n_is_zero {
+        zero
+    } else {
+        _mm512_mul_pd(_mm512_div_pd(_mm512_mul_pd(f, k.ga), den), k.gb)
+    };
+    let h = _mm512_mul_pd(_mm512_mul_pd(f, l), k.n_scale);
+    // |v| < inf is false for inf and NaN.
+    // h only matters (and is only checked, as in the generic loops) when n is free.
+    let ok_h = if k.has_n {
+        _mm512_cmp_pd_mask::<_CMP_LT_OQ>(_mm512_abs_pd(h), inf)
+    } else {
+        0xFF
+    };
+    let ok = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(_mm512_abs_pd(g), inf) & ok_h;
+    for (slot, col) in cols.iter_mut().enumerate() {
+        let Some(col) = col else { continue };
+        let v = if slot == 3 {
+            h
+        } else {
+            let w = &rows[slot];
+            let mut t = _mm512_mul_pd(splat(w[3]), s);
+            t = _mm512_fmadd_pd(splat(w[0]), p, t);
+            t = _mm512_fmadd_pd(splat(w[1]), q, t);
+            t = _mm512_fmadd_pd(splat(w[2]), r, t);
+            _mm512_mul_pd(g, t)
+        };
+        store(col, at, mask, v);
+    }
+    mask & !ok
 }
