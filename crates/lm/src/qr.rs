@@ -273,27 +273,29 @@ fn load_group<'s, V: BlockOps>(
 ) {
     let g = group.len().div_ceil(LD);
     match g {
-        4 => put::<4>(
-            dots,
-            first,
-            load_columns::<V, 4>(group, first, nb, next, source),
-        ),
-        3 => put::<3>(
-            dots,
-            first,
-            load_columns::<V, 3>(group, first, nb, next, source),
-        ),
-        2 => put::<2>(
-            dots,
-            first,
-            load_columns::<V, 2>(group, first, nb, next, source),
-        ),
-        _ => put::<1>(
-            dots,
-            first,
-            load_columns::<V, 1>(group, first, nb, next, source),
-        ),
+        4 => load_into::<V, 4>(group, first, nb, next, source, dots),
+        3 => load_into::<V, 3>(group, first, nb, next, source, dots),
+        2 => load_into::<V, 2>(group, first, nb, next, source, dots),
+        _ => load_into::<V, 1>(group, first, nb, next, source, dots),
     }
+}
+
+/// [`load_columns`] of a group of `G` columns, its dot products stored at
+/// `dots[first..first + G]`.
+#[inline(always)]
+fn load_into<'s, V: BlockOps, const G: usize>(
+    group: &mut [f64],
+    first: usize,
+    nb: usize,
+    next: Option<&[f64]>,
+    source: &impl Fn(usize) -> (&'s [f64], f64),
+    dots: &mut [f64],
+) {
+    put::<G>(
+        dots,
+        first,
+        load_columns::<V, G>(group, first, nb, next, source),
+    );
 }
 
 /// `dots[first..first + G] = out[..G]`: with the length a constant the copy is a few moves,

@@ -153,30 +153,37 @@ pub(crate) unsafe fn lobe_values(
     // UNROLL vectors per iteration: one `d^n` is a long dependency chain (the logarithm's
     // division and two polynomials), and independent chains in one block let the core overlap
     // them. Each lane's operations are the same, so are the bits.
-    let pairs = m / (8 * UNROLL) * (8 * UNROLL);
-    for i in (0..pairs).step_by(8 * UNROLL) {
+    let unrolled_end = m / (8 * UNROLL) * (8 * UNROLL);
+    for i in (0..unrolled_end).step_by(8 * UNROLL) {
         let dd: [__m512d; UNROLL] =
             std::array::from_fn(|k| products(c, with_r, d, i + 8 * k, 0xFF).1);
         let fl: [(__m512d, __m512d); UNROLL] = std::array::from_fn(|k| pow_clamped(dd[k], nn));
-        for (k, &(f, l)) in fl.iter().enumerate() {
-            let at = i + 8 * k;
-            let o = load(out, at, 0xFF);
-            store(out, at, 0xFF, _mm512_add_pd(o, f));
-            if let Some((kf, kl)) = keep.as_mut() {
-                store(kf, at, 0xFF, f);
-                store(kl, at, 0xFF, l);
-            }
+        for (k, &fl) in fl.iter().enumerate() {
+            add_and_keep(out, &mut keep, i + 8 * k, 0xFF, fl);
         }
     }
-    for (i, mask) in lanes(m - pairs).map(|(i, mask)| (i + pairs, mask)) {
+    for (i, mask) in lanes(m - unrolled_end).map(|(i, mask)| (i + unrolled_end, mask)) {
         let dd = products(c, with_r, d, i, mask).1;
-        let (f, l) = pow_clamped(dd, nn);
-        let o = load(out, i, mask);
-        store(out, i, mask, _mm512_add_pd(o, f));
-        if let Some((kf, kl)) = keep.as_mut() {
-            store(kf, i, mask, f);
-            store(kl, i, mask, l);
-        }
+        add_and_keep(out, &mut keep, i, mask, pow_clamped(dd, nn));
+    }
+}
+
+/// Adds `f` to lanes `at..at + 8` of `out` (selected by `mask`) and, with `keep`, stores `f`
+/// and `l` there.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn add_and_keep(
+    out: &mut [f64],
+    keep: &mut Option<(&mut [f64], &mut [f64])>,
+    at: usize,
+    mask: __mmask8,
+    (f, l): (__m512d, __m512d),
+) {
+    let o = load(out, at, mask);
+    store(out, at, mask, _mm512_add_pd(o, f));
+    if let Some((kf, kl)) = keep.as_mut() {
+        store(kf, at, mask, f);
+        store(kl, at, mask, l);
     }
 }
 
@@ -224,8 +231,8 @@ pub(crate) unsafe fn lobe_jacobian(
     let mut bad: __mmask8 = 0;
     // Two vectors per iteration, as in `lobe_values`: two independent `d^n` chains in one
     // block. The same operations per lane, so the same bits.
-    let pairs = m / (8 * UNROLL) * (8 * UNROLL);
-    for i in (0..pairs).step_by(8 * UNROLL) {
+    let unrolled_end = m / (8 * UNROLL) * (8 * UNROLL);
+    for i in (0..unrolled_end).step_by(8 * UNROLL) {
         let pd: [([__m512d; 4], __m512d); UNROLL] =
             std::array::from_fn(|j| products(c, with_r, d, i + 8 * j, 0xFF));
         let fl: [(__m512d, __m512d); UNROLL] =
@@ -238,7 +245,7 @@ pub(crate) unsafe fn lobe_jacobian(
             bad |= jacobian_lanes(lanes, pd[j], fl[j], &k, out, cols, rows);
         }
     }
-    for (at, mask) in lanes(m - pairs).map(|(i, mask)| (i + pairs, mask)) {
+    for (at, mask) in lanes(m - unrolled_end).map(|(i, mask)| (i + unrolled_end, mask)) {
         let pd = products(c, with_r, d, at, mask);
         let fl = power(pd.1, at, mask);
         bad |= jacobian_lanes(Lanes { at, mask }, pd, fl, &k, out, cols, rows);

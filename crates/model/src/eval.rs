@@ -815,16 +815,36 @@ fn lobe_values<A: MulAdd, const R: bool>(
             None => &mut stack_f[..k],
         };
         if all_exp_normal(c.n, ll) {
-            for (((o, f), &l), &x) in out.iter_mut().zip(ff).zip(ll.iter()).zip(dd.iter()) {
-                *f = pow_from_ln_normal::<A>(x, c.n, l);
-                *o += *f;
-            }
+            add_powers::<A, true>(c.n, dd, ll, ff, out);
         } else {
-            for (((o, f), &l), &x) in out.iter_mut().zip(ff).zip(ll.iter()).zip(dd.iter()) {
-                *f = pow_from_ln::<A>(x, c.n, l);
-                *o += *f;
-            }
+            add_powers::<A, false>(c.n, dd, ll, ff, out);
         }
+    }
+}
+
+/// `f = max(0, d)^n` from `l = ln d` and `out += f`, the exponential in its shorter form when
+/// `NORMAL` (the caller checked [`all_exp_normal`]; the same bits).
+#[inline(always)]
+fn add_powers<A: MulAdd, const NORMAL: bool>(
+    n: f64,
+    ds: &[f64],
+    ls: &[f64],
+    fs: &mut [f64],
+    out: &mut [f64],
+) {
+    for (((o, f), &l), &x) in out.iter_mut().zip(fs).zip(ls).zip(ds) {
+        *f = pow_from_ln_any::<A, NORMAL>(x, n, l);
+        *o += *f;
+    }
+}
+
+/// [`pow_from_ln_normal`] when `NORMAL`, else [`pow_from_ln`].
+#[inline(always)]
+fn pow_from_ln_any<A: MulAdd, const NORMAL: bool>(d: f64, n: f64, l: f64) -> f64 {
+    if NORMAL {
+        pow_from_ln_normal::<A>(d, n, l)
+    } else {
+        pow_from_ln::<A>(d, n, l)
     }
 }
 
@@ -833,13 +853,20 @@ fn lobe_values<A: MulAdd, const R: bool>(
 #[inline(always)]
 fn ln_stage<A: MulAdd>(ds: &[f64], ls: &mut [f64]) {
     if no_subnormal(ds) {
-        for (l, &x) in ls.iter_mut().zip(ds) {
-            *l = ln_clamped_normal::<A>(x);
-        }
+        ln_loop::<A, true>(ds, ls);
     } else {
-        for (l, &x) in ls.iter_mut().zip(ds) {
-            *l = ln_clamped::<A>(x);
-        }
+        ln_loop::<A, false>(ds, ls);
+    }
+}
+
+#[inline(always)]
+fn ln_loop<A: MulAdd, const NORMAL: bool>(ds: &[f64], ls: &mut [f64]) {
+    for (l, &x) in ls.iter_mut().zip(ds) {
+        *l = if NORMAL {
+            ln_clamped_normal::<A>(x)
+        } else {
+            ln_clamped::<A>(x)
+        };
     }
 }
 
@@ -909,17 +936,27 @@ fn lobe_full<A: MulAdd, const R: bool>(
         None => {
             ln_stage::<A>(g, h);
             if all_exp_normal(n, h) {
-                for ((o, gi), hi) in out.iter_mut().zip(g.iter_mut()).zip(h.iter_mut()) {
-                    let (x, l) = (*gi, *hi);
-                    finish(o, gi, hi, pow_from_ln_normal::<A>(x, n, l), l);
-                }
+                finish_powers::<A, true>(n, out, g, h, finish);
             } else {
-                for ((o, gi), hi) in out.iter_mut().zip(g.iter_mut()).zip(h.iter_mut()) {
-                    let (x, l) = (*gi, *hi);
-                    finish(o, gi, hi, pow_from_ln::<A>(x, n, l), l);
-                }
+                finish_powers::<A, false>(n, out, g, h, finish);
             }
         }
+    }
+}
+
+/// The last stage of [`lobe_full`]: `finish(out, g, h, d^n, ln d)` per sample, with `g`
+/// holding `d` and `h` holding `ln d` on entry (the exponential's shorter form when `NORMAL`).
+#[inline(always)]
+fn finish_powers<A: MulAdd, const NORMAL: bool>(
+    n: f64,
+    out: &mut [f64],
+    g: &mut [f64],
+    h: &mut [f64],
+    finish: impl Fn(&mut f64, &mut f64, &mut f64, f64, f64),
+) {
+    for ((o, gi), hi) in out.iter_mut().zip(g.iter_mut()).zip(h.iter_mut()) {
+        let (x, l) = (*gi, *hi);
+        finish(o, gi, hi, pow_from_ln_any::<A, NORMAL>(x, n, l), l);
     }
 }
 
@@ -943,13 +980,14 @@ fn column<A: MulAdd>(d: &DataSet, lo: usize, g: &[f64], col: &mut [f64], w: [f64
     let (r, s) = (&d.pxy[lo..hi], &d.pzz[lo..hi]);
     let g = &g[..m];
     for i in 0..m {
-        col[i] = g[i]
-            * A::mad(
-                w[0],
-                p[i],
-                A::mad(w[1], q[i], A::mad(w[2], r[i], w[3] * s[i])),
-            );
+        col[i] = g[i] * weighted::<A>(&w, p[i], q[i], r[i], s[i]);
     }
+}
+
+/// `a P + b Q + c R + e S` for `w = [a, b, c, e]`, in the order every column uses.
+#[inline(always)]
+fn weighted<A: MulAdd>(w: &[f64; 4], p: f64, q: f64, r: f64, s: f64) -> f64 {
+    A::mad(w[0], p, A::mad(w[1], q, A::mad(w[2], r, w[3] * s)))
 }
 
 /// [`column`] for the four direction columns of a lobe with every direction parameter free
@@ -969,13 +1007,7 @@ fn four_columns<A: MulAdd>(
     let (r, s) = (&d.pxy[lo..hi], &d.pzz[lo..hi]);
     let [c0, c1, c2, c3] = cols;
     let (c0, c1, c2, c3) = (&mut c0[..m], &mut c1[..m], &mut c2[..m], &mut c3[..m]);
-    let entry = |w: &[f64; 4], i: usize| {
-        g[i] * A::mad(
-            w[0],
-            p[i],
-            A::mad(w[1], q[i], A::mad(w[2], r[i], w[3] * s[i])),
-        )
-    };
+    let entry = |w: &[f64; 4], i: usize| g[i] * weighted::<A>(w, p[i], q[i], r[i], s[i]);
     for i in 0..m {
         c0[i] = entry(&w[0], i);
         c1[i] = entry(&w[1], i);
