@@ -135,22 +135,7 @@ fn pow2i(k: f64) -> f64 {
 pub fn exp<A: MulAdd>(x: f64) -> f64 {
     let xc = sel(x > 800.0, 800.0, x);
     let xc = sel(xc < -800.0, -800.0, xc);
-    let k = A::mad(xc, LOG2E, MAGIC) - MAGIC;
-    // k * LN2_HI is exact (LN2_HI has 32 significant bits, |k| <= 1155).
-    let r = A::mad(-k, LN2_LO, xc - k * LN2_HI);
-    // Taylor series of e^r to degree 11, Horner form.
-    let mut p = 1.0 / 39916800.0;
-    p = A::mad(p, r, 1.0 / 3628800.0);
-    p = A::mad(p, r, 1.0 / 362880.0);
-    p = A::mad(p, r, 1.0 / 40320.0);
-    p = A::mad(p, r, 1.0 / 5040.0);
-    p = A::mad(p, r, 1.0 / 720.0);
-    p = A::mad(p, r, 1.0 / 120.0);
-    p = A::mad(p, r, 1.0 / 24.0);
-    p = A::mad(p, r, 1.0 / 6.0);
-    p = A::mad(p, r, 0.5);
-    p = A::mad(p, r, 1.0);
-    p = A::mad(p, r, 1.0);
+    let (k, p) = exp_reduced::<A>(xc);
     // Scale in two steps so |k| up to 1154 neither wraps the exponent field nor loses the
     // overflow to +inf / underflow to 0.
     let k1 = (k * 0.5 + MAGIC) - MAGIC;
@@ -170,8 +155,18 @@ pub const EXP_NORMAL_MAX: f64 = 700.0;
 /// vector operations fewer.
 #[inline(always)]
 pub fn exp_normal<A: MulAdd>(x: f64) -> f64 {
+    let (k, p) = exp_reduced::<A>(x);
+    p * pow2i(k)
+}
+
+/// `(k, p)` with `e^x = p 2^k`: `k = round(x log2 e)` and `p = e^r` on the reduced
+/// `r = x - k ln 2`, `|r| <= ln2 / 2` (both exponentials share it, so their bits agree).
+#[inline(always)]
+fn exp_reduced<A: MulAdd>(x: f64) -> (f64, f64) {
     let k = A::mad(x, LOG2E, MAGIC) - MAGIC;
+    // k * LN2_HI is exact (LN2_HI has 32 significant bits, |k| <= 1155).
     let r = A::mad(-k, LN2_LO, x - k * LN2_HI);
+    // Taylor series of e^r to degree 11, Horner form.
     let mut p = 1.0 / 39916800.0;
     p = A::mad(p, r, 1.0 / 3628800.0);
     p = A::mad(p, r, 1.0 / 362880.0);
@@ -184,7 +179,7 @@ pub fn exp_normal<A: MulAdd>(x: f64) -> f64 {
     p = A::mad(p, r, 0.5);
     p = A::mad(p, r, 1.0);
     p = A::mad(p, r, 1.0);
-    p * pow2i(k)
+    (k, p)
 }
 
 /// Whether every `n l` (the exponential's argument in [`pow_from_ln`]) is within
