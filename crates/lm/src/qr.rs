@@ -273,39 +273,16 @@ fn load_group<'s, V: BlockOps>(
 ) {
     let g = group.len().div_ceil(LD);
     match g {
-        4 => load_into::<V, 4>(group, first, nb, next, source, dots),
-        3 => load_into::<V, 3>(group, first, nb, next, source, dots),
-        2 => load_into::<V, 2>(group, first, nb, next, source, dots),
-        _ => load_into::<V, 1>(group, first, nb, next, source, dots),
+        4 => load_columns::<V, 4>(group, first, nb, next, source, dots),
+        3 => load_columns::<V, 3>(group, first, nb, next, source, dots),
+        2 => load_columns::<V, 2>(group, first, nb, next, source, dots),
+        _ => load_columns::<V, 1>(group, first, nb, next, source, dots),
     }
 }
 
-/// [`load_columns`] of a group of `G` columns, its dot products stored at
-/// `dots[first..first + G]`.
-#[inline(always)]
-fn load_into<'s, V: BlockOps, const G: usize>(
-    group: &mut [f64],
-    first: usize,
-    nb: usize,
-    next: Option<&[f64]>,
-    source: &impl Fn(usize) -> (&'s [f64], f64),
-    dots: &mut [f64],
-) {
-    put::<G>(
-        dots,
-        first,
-        load_columns::<V, G>(group, first, nb, next, source),
-    );
-}
-
-/// `dots[first..first + G] = out[..G]`: with the length a constant the copy is a few moves,
-/// where a slice of run-time length was a call to `memcpy` (1.2% of an RPLS profile).
-#[inline(always)]
-fn put<const G: usize>(dots: &mut [f64], first: usize, out: [f64; 4]) {
-    dots[first..first + G].copy_from_slice(&out[..G]);
-}
-
-/// [`load_group`] for a group of `G` columns.
+/// [`load_group`] for a group of `G` columns. The dot products go straight into
+/// `dots[first..first + G]`, a copy of constant length (a slice of run-time length compiled to
+/// a call to `memcpy`, 1.2% of an RPLS profile).
 #[inline(always)]
 fn load_columns<'s, V: BlockOps, const G: usize>(
     group: &mut [f64],
@@ -313,16 +290,15 @@ fn load_columns<'s, V: BlockOps, const G: usize>(
     nb: usize,
     next: Option<&[f64]>,
     source: &impl Fn(usize) -> (&'s [f64], f64),
-) -> [f64; 4] {
+    dots: &mut [f64],
+) {
     let mut chunks = group.chunks_mut(LD);
     let mut dst: [&mut [f64]; G] = std::array::from_fn(|_| match chunks.next() {
         Some(col) => &mut col[..nb],
         None => unreachable!("the group has G columns"),
     });
     let src: [(&[f64], f64); G] = std::array::from_fn(|g| source(first + g));
-    let mut out = [0.0; 4];
-    out[..G].copy_from_slice(&V::load_scaled_dot(src, &mut dst, next));
-    out
+    dots[first..first + G].copy_from_slice(&V::load_scaled_dot(src, &mut dst, next));
 }
 
 /// Folds an `nb`-row block `B` (with its right-hand side column) into `[R | c]`: Householder QR
@@ -461,33 +437,19 @@ impl Reflector {
             *wg = self.beta * (self.v0 * *top + dots[j]);
             *top -= *wg * self.v0;
         }
-        let args = (bk, nb, &w, next, has_next);
+        let dots = has_next.then_some(&mut dots[first..]);
         match g {
-            4 => update_into::<V, 4>(group, args, dots, first),
-            3 => update_into::<V, 3>(group, args, dots, first),
-            2 => update_into::<V, 2>(group, args, dots, first),
-            _ => update_into::<V, 1>(group, args, dots, first),
+            4 => update::<V, 4>(bk, group, nb, &w, next, dots),
+            3 => update::<V, 3>(bk, group, nb, &w, next, dots),
+            2 => update::<V, 2>(bk, group, nb, &w, next, dots),
+            _ => update::<V, 1>(bk, group, nb, &w, next, dots),
         }
     }
 }
 
-/// [`update`] of a group of `G` columns, its dot products (with `has_next`) stored at
-/// `dots[first..first + G]`.
-#[inline(always)]
-fn update_into<V: BlockOps, const G: usize>(
-    group: &mut [f64],
-    (bk, nb, w, next, has_next): (&[f64], usize, &[f64; 4], Option<&[f64]>, bool),
-    dots: &mut [f64],
-    first: usize,
-) {
-    let out = update::<V, G>(bk, group, nb, w, next, has_next);
-    if has_next {
-        put::<G>(dots, first, out);
-    }
-}
-
-/// The `G` columns of `group` minus `w[g] bk`, and (with `has_next`) the dot products of the
-/// updated `next` (or of the updated first column) with each updated column.
+/// The `G` columns of `group` minus `w[g] bk`, and (with `dots`) the dot products of the
+/// updated `next` (or of the updated first column) with each updated column, written to
+/// `dots[..G]` (a copy of constant length, see [`load_columns`]).
 #[inline(always)]
 fn update<V: BlockOps, const G: usize>(
     bk: &[f64],
@@ -495,21 +457,18 @@ fn update<V: BlockOps, const G: usize>(
     nb: usize,
     w: &[f64; 4],
     next: Option<&[f64]>,
-    has_next: bool,
-) -> [f64; 4] {
+    dots: Option<&mut [f64]>,
+) {
     let mut chunks = group.chunks_mut(LD);
     let mut cols: [&mut [f64]; G] = std::array::from_fn(|_| match chunks.next() {
         Some(col) => &mut col[..nb],
         None => unreachable!("the group has G columns"),
     });
     let w: [f64; G] = std::array::from_fn(|g| w[g]);
-    let mut out = [0.0; 4];
-    if has_next {
-        out[..G].copy_from_slice(&V::sub_scaled_dot(bk, &w, &mut cols, next));
-    } else {
-        V::sub_scaled(bk, &w, &mut cols);
+    match dots {
+        Some(dots) => dots[..G].copy_from_slice(&V::sub_scaled_dot(bk, &w, &mut cols, next)),
+        None => V::sub_scaled(bk, &w, &mut cols),
     }
-    out
 }
 
 /// The long loops of the block fold, in two builds that give the same bits: [`Portable`] and,
