@@ -146,9 +146,11 @@ fn seeded_trials_portable() {
     assert_eq!(got, PORTABLE);
 }
 
-/// Outcomes with the portable kernel (any x86-64 CPU).
+/// Outcomes with the portable kernel (any x86-64 CPU). Until its exponential's polynomial
+/// went to Estrin's form (2026-12-03, a last-bit difference in some values) trial 0 took
+/// (9340, 7180, 90000).
 const PORTABLE: [(u64, u64, u64); 3] = [
-    (9340, 7180, 90000),
+    (9315, 7155, 90000),
     (4993, 2990, 60000),
     (230000, 160000, 0),
 ];
