@@ -3,37 +3,10 @@
 //! `+inf` and gradual underflow). Same formulas and polynomials as [`crate::fastmath`].
 
 #![cfg(target_arch = "x86_64")]
-#![allow(clippy::excessive_precision)]
 
 use crate::data::View;
+use crate::fastmath::{EXP_TAYLOR, LG, LN2_HI, LN2_LO};
 use std::arch::x86_64::*;
-
-const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
-const LG: [f64; 7] = [
-    6.666_666_666_666_735_130e-1,
-    3.999_999_999_940_941_908e-1,
-    2.857_142_874_366_239_149e-1,
-    2.222_219_843_214_978_396e-1,
-    1.818_357_216_161_805_012e-1,
-    1.531_383_769_920_937_332e-1,
-    1.479_819_860_511_658_591e-1,
-];
-/// 1/k! for k = 11 down to 0 (Horner order).
-const EXP_C: [f64; 12] = [
-    1.0 / 39916800.0,
-    1.0 / 3628800.0,
-    1.0 / 362880.0,
-    1.0 / 40320.0,
-    1.0 / 5040.0,
-    1.0 / 720.0,
-    1.0 / 120.0,
-    1.0 / 24.0,
-    1.0 / 6.0,
-    0.5,
-    1.0,
-    1.0,
-];
 
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -88,8 +61,8 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
     let r = _mm512_fnmadd_pd(k, splat(LN2_LO), r);
     // Degree 11, as in `fastmath::exp` (truncation < 7e-15 relative on |r| <= ln2/2; degree 10
     // was 2.3e-13, about 1000 ulps).
-    let mut p = splat(EXP_C[0]);
-    for &c in &EXP_C[1..] {
+    let mut p = splat(EXP_TAYLOR[11]);
+    for &c in EXP_TAYLOR[..11].iter().rev() {
         p = _mm512_fmadd_pd(p, r, splat(c));
     }
     let f = _mm512_scalef_pd(p, k);

@@ -23,23 +23,34 @@
 
 const MAGIC: f64 = 6755399441055744.0; // 1.5 * 2^52: x + MAGIC - MAGIC rounds x to an integer
 const TWO52: f64 = 4503599627370496.0;
-const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+pub(crate) const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
+pub(crate) const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
 const LOG2E: f64 = std::f64::consts::LOG2_E;
 const SQRT2: f64 = std::f64::consts::SQRT_2;
-const LG1: f64 = 6.666_666_666_666_735_130e-1;
-const LG2: f64 = 3.999_999_999_940_941_908e-1;
-const LG3: f64 = 2.857_142_874_366_239_149e-1;
-const LG4: f64 = 2.222_219_843_214_978_396e-1;
-const LG5: f64 = 1.818_357_216_161_805_012e-1;
-const LG6: f64 = 1.531_383_769_920_937_332e-1;
-const LG7: f64 = 1.479_819_860_511_658_591e-1;
+/// fdlibm's `Lg1..Lg7`, the logarithm's polynomial in `s^2` (`LG[0]` is `Lg1`); shared with
+/// the AVX-512 kernel.
+pub(crate) const LG: [f64; 7] = [
+    6.666_666_666_666_735_130e-1,
+    3.999_999_999_940_941_908e-1,
+    2.857_142_874_366_239_149e-1,
+    2.222_219_843_214_978_396e-1,
+    1.818_357_216_161_805_012e-1,
+    1.531_383_769_920_937_332e-1,
+    1.479_819_860_511_658_591e-1,
+];
+const LG1: f64 = LG[0];
+const LG2: f64 = LG[1];
+const LG3: f64 = LG[2];
+const LG4: f64 = LG[3];
+const LG5: f64 = LG[4];
+const LG6: f64 = LG[5];
+const LG7: f64 = LG[6];
 
 /// How `a * b + c` is computed: [`Plain`] (two roundings, any CPU) or [`Fused`] (`mul_add`,
 /// only used inside functions compiled with FMA enabled, where it is one instruction).
 pub trait MulAdd {
-    /// Whether polynomials are evaluated in Estrin's form (shorter dependency chains, a few
-    /// more multiplies) rather than Horner's; see `exp_taylor`.
+    /// Whether the exponential's polynomial is evaluated in Estrin's form (a shorter
+    /// dependency chain, a few more multiplies) rather than Horner's; see `exp_taylor`.
     const ESTRIN: bool;
     /// `a * b + c`.
     fn mad(a: f64, b: f64, c: f64) -> f64;
@@ -174,32 +185,35 @@ fn exp_reduced<A: MulAdd>(x: f64) -> (f64, f64) {
     (k, exp_taylor::<A>(r))
 }
 
+/// `1/k!` for k = 0..=11: the coefficients of [`exp_taylor`], shared with the AVX-512 kernel.
+pub(crate) const EXP_TAYLOR: [f64; 12] = [
+    1.0,
+    1.0,
+    0.5,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+    1.0 / 5040.0,
+    1.0 / 40320.0,
+    1.0 / 362880.0,
+    1.0 / 3628800.0,
+    1.0 / 39916800.0,
+];
+
 /// The degree-11 Taylor polynomial of `e^r`: in Horner's form with fused multiply-adds and in
 /// Estrin's form without ([`MulAdd::ESTRIN`]). Without FMA each Horner step is a multiply and
 /// then an add, a chain of 22 dependent operations per sample that held the out-of-order core
-/// waiting (the baseline kernel ran 8 to 10% faster in Estrin's form, measured with
-/// `cpu_throughput` alternated against Horner's); with FMA the chain is half as long and
-/// Estrin's extra multiplies gained nothing, so the fused form keeps Horner's bits.
+/// waiting: in Estrin's form the baseline kernel's values took 6.46 instead of 7.13 ns per
+/// lobe-sample (medians of six `cpu_throughput` runs alternated with Horner's, 2026-12-03).
+/// With FMA the chain is half as long and Estrin's extra multiplies gained nothing, so the
+/// fused form keeps Horner's bits.
 #[inline(always)]
 fn exp_taylor<A: MulAdd>(r: f64) -> f64 {
-    const C: [f64; 12] = [
-        1.0,
-        1.0,
-        0.5,
-        1.0 / 6.0,
-        1.0 / 24.0,
-        1.0 / 120.0,
-        1.0 / 720.0,
-        1.0 / 5040.0,
-        1.0 / 40320.0,
-        1.0 / 362880.0,
-        1.0 / 3628800.0,
-        1.0 / 39916800.0,
-    ];
     if A::ESTRIN {
         let r2 = r * r;
         let r4 = r2 * r2;
-        let pair = |i: usize| A::mad(C[i + 1], r, C[i]);
+        let pair = |i: usize| A::mad(EXP_TAYLOR[i + 1], r, EXP_TAYLOR[i]);
         let quad = |i: usize| A::mad(pair(i + 2), r2, pair(i));
         A::mad(
             A::mad(pair(10), r2, pair(8)),
@@ -207,7 +221,11 @@ fn exp_taylor<A: MulAdd>(r: f64) -> f64 {
             A::mad(quad(4), r4, quad(0)),
         )
     } else {
-        C.iter().rev().skip(1).fold(C[11], |p, &c| A::mad(p, r, c))
+        EXP_TAYLOR
+            .iter()
+            .rev()
+            .skip(1)
+            .fold(EXP_TAYLOR[11], |p, &c| A::mad(p, r, c))
     }
 }
 
