@@ -1,6 +1,7 @@
 //! Diagnostic: traces one MGH solve (every residual and Jacobian evaluation) with a chosen
 //! configuration.
-//! `cargo run -p bounded-lm --release --example mgh_one -- BrownDennis 1 [adaptive|classic|no-secant|n2fb]`
+//! `cargo run -p bounded-lm --release --example mgh_one -- BrownDennis 1
+//! [adaptive|classic|no-secant|no-correction|n2fb]`
 
 use bounded_lm::problems::mgh;
 use bounded_lm::{Options, Problem, RadiusUpdate, Solver, StepModel};
@@ -35,8 +36,11 @@ fn main() {
             "adaptive" => options.model = StepModel::Adaptive,
             "classic" => options.radius_update = RadiusUpdate::Classic,
             "no-secant" => options.secant_scaling = false,
+            "no-correction" => options.second_order_correction = false,
             "n2fb" => options = Options::n2fb(),
-            other => panic!("unknown option {other} (adaptive, classic, no-secant, n2fb)"),
+            other => {
+                panic!("unknown option {other} (adaptive, classic, no-secant, no-correction, n2fb)")
+            }
         }
     }
     for mut prob in mgh::all() {

@@ -1,6 +1,6 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
 //! radius rule, without the secant term in the scaling, with MINPACK's non-decreasing scaling,
-//! and N2FB's configuration) and writes the per-problem table to
+//! without the second-order correction, and N2FB's configuration, which has none) and writes the per-problem table to
 //! `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
@@ -27,6 +27,10 @@ fn main() {
     let configs = [
         Options::default(),
         Options {
+            second_order_correction: false,
+            ..Options::default()
+        },
+        Options {
             scaling_decay: 1.0,
             ..Options::default()
         },
@@ -50,8 +54,13 @@ fn main() {
         } else {
             format!(", scaling decay {} (MINPACK's)", options.scaling_decay)
         };
+        let correction = if options.second_order_correction {
+            ""
+        } else {
+            ", no second-order correction"
+        };
         let label = format!(
-            "{model:?}{switch}, {radius_update:?} radius{decay}, {}",
+            "{model:?}{switch}, {radius_update:?} radius{decay}{correction}, {}",
             if !secant_scaling {
                 "no secant scaling".to_string()
             } else if options.secant_scaling_delay == 0 {

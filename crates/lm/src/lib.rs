@@ -40,7 +40,12 @@
 //! inside the region, no `lambda` reaches the boundary; by default the iteration then stops
 //! once the steps stop growing, as MINPACK's `lmpar` does
 //! ([`Options::stop_at_minimum_norm_step`], off in the searches). A step is accepted when `f`
-//! decreases by more than 1e-4 of the predicted reduction.
+//! decreases by more than 1e-4 of the predicted reduction. A rejected step gets one
+//! second-order correction before the radius shrinks ([`Options::second_order_correction`],
+//! ours, off in [`Options::n2fb`] and in the searches): the residuals' departure from the linear
+//! model at the rejected point, `e = r(x + s) - r(x) - J s`, gives `c` minimising
+//! `||J c + e||^2 + lambda ||D c||^2`, and `s + c` is evaluated and accepted by the same test
+//! against `s`'s predicted reduction.
 //!
 //! With fewer residuals than free variables (`m < n`: a 25-row subsample of a many-lobe model)
 //! `R` has only `m` nonzero rows, and the shifted systems are solved in their dual form
@@ -113,7 +118,7 @@
 //! parameter** (ours, not N2FB's): until then a solve is exactly a Gauss-Newton one, so the
 //! searches' short descents are unchanged, and long solves of large-residual problems get the
 //! augmented model's end game: NIST 52/54, MGH 70/78, Brown and Dennis in 23 / 27 iterations
-//! (see "Robustness" and the table below).
+//! (see "Robustness" and the table below; 71/78 since the second-order correction).
 //!
 //! # Robustness (issue 14): what N2FB did that this solver did not
 //! Sources: J. E. Dennis, D. M. Gay and R. E. Welsch, *An adaptive nonlinear least-squares
@@ -193,7 +198,8 @@
 //!   from x0, with or without the secant scaling); both models creep there.
 //! - **How fast the scaling may fall** ([`Options::scaling_decay`], NL2SOL's DFAC; measured
 //!   2026-12-03 with `mgh_table -- OUT default scaling-decay=F`, `nist_table` and
-//!   `tests/robustness.rs`). Penalty II creeps (below) while `D` follows its shrinking
+//!   `tests/robustness.rs`, before the second-order correction existed: the same as with
+//!   `no-correction` now). Penalty II creeps (below) while `D` follows its shrinking
 //!   columns down; with MINPACK's never-decreasing scaling (Moré 1978) it is solved from x0 in
 //!   56 iterations and from 10 x0 in 62, and Osborne 1 from 10 x0 in 122. But the count does
 //!   not rise steadily with the factor, and each value above 0.6 costs something elsewhere:
@@ -213,6 +219,42 @@
 //!   README). Since the 71s were found by trying factors on the very runs that are counted,
 //!   and 0.8 between them loses two, we read them as noise around 70, not as a better rule,
 //!   and keep N2FB's 0.6.
+//! - **A second-order correction of rejected steps** (ours, 2026-12-03;
+//!   [`Options::second_order_correction`]). The curved valleys below (Penalty II, Osborne 1)
+//!   creep because every step longer than the valley's curvature fails, while N2FB's rules
+//!   shrink the radius back each time. A rejected step has already measured the curvature the
+//!   models miss: `e = r(x + s) - r(x) - J s` is about `0.5 s^T H_i s` per residual. The
+//!   correction `c = argmin ||J c + e||^2 + lambda ||D c||^2` (the second-order correction of
+//!   SQP methods; equally geodesic acceleration with the trial point as its finite difference)
+//!   bends the step back onto the valley at the cost of one residual evaluation and no
+//!   Jacobian, so unlike the geodesic acceleration below it spends nothing on steps that were
+//!   accepted anyway. It is tried when every variable is free and `||D c|| <= 0.75 ||D s||`
+//!   (GSL's `avmax`, not tuned here), and kept when `s + c` passes the acceptance test against
+//!   `s`'s PREDUC. Measured with `mgh_table -- OUT [config] [no-correction]` and `nist_table`:
+//!
+//!   | configuration | MGH unbounded, without -> with | boxed KKT | iterations, 78 unbounded runs | NIST correct / iterations, 54 runs |
+//!   |---|---|---|---|---|
+//!   | default | 70 -> 71/78 | 74 -> 75/78 | 2536 -> 2251 | 52 -> 52/54 / 1370 -> 964 |
+//!   | Gauss-Newton | 70 -> 71/78 | 74 -> 74/78 | 2421 -> 2291 | 52 -> 52/54 / 1251 -> 971 |
+//!   | Gauss-Newton, no secant scaling | 66 -> 65/78 | 68 -> 68/78 | 2791 -> 2733 | 52 -> 52/54 / 1259 -> 945 |
+//!   | Adaptive switching at once | 67 -> 70/78 (one success code on a wrong answer: Beale from 10 x0, code 3 at f = 0.22605 on its valley to infinity) | 73 -> 73/78 | 2779 -> 2382 | 50 -> 51/54 / 1861 -> 1314 |
+//!   | MINPACK's scaling (`scaling_decay` 1) | 71 -> 72/78 | 74 -> 74/78 | 2429 -> 1970 | 52 -> 52/54 / 1494 -> 1079 |
+//!   | N2FB's configuration with it | 69 -> 71/78 | 73 -> 74/78 | 2685 -> 2382 | - |
+//!
+//!   With the default it gains Penalty II (n = 10) from x0 (107 iterations, code 4) and
+//!   Osborne 1 from 10 x0 (62 iterations, code 4), and loses Gulf Research from x0 (142
+//!   iterations and code 6 without it; the iteration limit at f = 4.1e-3 with it). Penalty II
+//!   (n = 10) from 10 x0 ends at the evaluation limit within 3.6e-5 relative of its minimum
+//!   (the table's test is 1e-5). The 0.75 was taken from GSL; 0.25, 0.5, 1, 2 and no limit
+//!   score 70, 70, 71, 70 and 70 of the 78 unbounded runs, NIST 52/54 with 954 to 1008
+//!   iterations: the gain in iterations is robust, the 71st solved run is at the margin. A
+//!   variant that kept the rejected step's model-switch decision instead of judging the
+//!   corrected step afresh scored 70/78 and 1046 NIST iterations. The searches' descents keep it
+//!   off: on the tuning instance (200 seeds, `tuning_bench -- --algorithms aed,rpls
+//!   [--second-order-correction]`) AED's median sample-evaluations to RMSE 0.11 rose from
+//!   104,333 to 113,480 and its 90th percentile from 441,796 to 743,212 (RPLS 710,000 ->
+//!   720,000). `tests/robustness.rs` checks both valleys with and without it; the golden
+//!   file pins the default without it (`no-correction`), bit for bit the former default.
 //! - **Geodesic acceleration was tried and dropped** (Transtrum and Sethna 2012; GSL's
 //!   `lmaccel`): the step `v + a/2`, where `a` solves the shifted system for the second
 //!   directional derivative of the residuals along `v` (one extra residual evaluation). GSL
@@ -384,7 +426,8 @@
 //! in every parameter (PORT N2FB: 46/54; exchangeable terms such as MGH17's two exponentials may
 //! come in either order); the failures are MGH17 start 1 (singular convergence, code 7, after a
 //! long step onto the plateau where an exponential has died out) and MGH10 start 1 (iteration
-//! limit), and no success code is ever returned on a wrong answer. With budgets of 5000
+//! limit; the evaluation limit with the second-order correction), and no success code is ever
+//! returned on a wrong answer. With budgets of 5000
 //! iterations and evaluations: 52/54 (the same two; PORT: 50/54). With
 //! [`RadiusUpdate::Classic`]: 50/54 (MGH09 start 1, MGH10 start 1 and Bennett5 from both starts
 //! stop on the iteration limit) with 1944 iterations and 2245 residual evaluations.
@@ -400,28 +443,34 @@
 //!
 //! | configuration | unbounded solved | boxed KKT | boxed solved or failure code | Brown-Dennis x0 / 10 x0 iterations | table |
 //! |---|---|---|---|---|---|
-//! | Adaptive switching after 2p updates, secant scaling after 2p updates (default) | 70/78 | 74/78 | 78/78 | 23 / 27 | `crates/lm/MGH.md` |
-//! | Gauss-Newton, secant scaling after 2p updates (default before 2026-12-02) | 70/78 | 74/78 | 78/78 | 71 / 81 | `crates/lm/MGH-gauss-newton.md` |
-//! | Gauss-Newton, no secant scaling (before issue 14) | 66/78 | 68/78 | 78/78 | 150 (limit) / 150 (limit) | `crates/lm/MGH-no-secant.md` |
-//! | Adaptive switching at once, secant scaling after 2p updates | 67/78 | 73/78 | 78/78 | 25 / 24 | `crates/lm/MGH-adaptive.md` |
-//! | Adaptive, no secant scaling | 68/78 | 71/78 | 77/78 | 26 / 30 | - |
-//! | N2FB ([`Options::n2fb`]: Adaptive, secant scaling at once) | 69/78 | 73/78 | 78/78 | 21 / 24 | `crates/lm/MGH-n2fb.md` |
-//! | The searches' descents (default with dead columns free and N2FB's singular test; `mgh_table -- OUT default free-dead n2fb-singular-test`) | 69/78 | 73/78 | 78/78 | 23 / 27 | - |
+//! | Adaptive switching after 2p updates, secant scaling after 2p updates, second-order correction (default) | 71/78 | 75/78 | 78/78 | 23 / 27 | `crates/lm/MGH.md` |
+//! | The default without the second-order correction (the default before 2026-12-03) | 70/78 | 74/78 | 78/78 | 23 / 27 | `crates/lm/MGH-no-correction.md` |
+//! | Gauss-Newton, secant scaling after 2p updates (with the correction; without it, the default before 2026-12-02: 70/78, 74/78) | 71/78 | 74/78 | 78/78 | 71 / 81 | `crates/lm/MGH-gauss-newton.md` |
+//! | Gauss-Newton, no secant scaling, with the correction (without it, before issue 14: 66/78, 68/78, 150 (limit) / 150 (limit)) | 65/78 | 68/78 | 78/78 | 147 / 148 | `crates/lm/MGH-no-secant.md` |
+//! | Adaptive switching at once, secant scaling after 2p updates, with the correction (without it: 67/78, 73/78) | 70/78, one with a success code on a wrong answer (Beale from 10 x0) | 73/78 | 78/78 | 25 / 24 | `crates/lm/MGH-adaptive.md` |
+//! | Adaptive, no secant scaling, with the correction (without it: 68/78) | 69/78 | 71/78 | 77/78 | 26 / 30 | - |
+//! | N2FB ([`Options::n2fb`]: Adaptive, secant scaling at once, no correction) | 69/78 | 73/78 | 78/78 | 21 / 24 | `crates/lm/MGH-n2fb.md` |
+//! | The searches' descents (default with dead columns free, N2FB's singular test and no correction; `mgh_table -- OUT default free-dead n2fb-singular-test no-correction`) | 69/78 | 74/78 | 78/78 | 23 / 27 | - |
 //!
 //! The searches' configuration loses Chebyquad (n = 8) from 10 x0 to N2FB's singular test (code
-//! 7 after 2 evaluations at f = 1.0e22) and, with dead columns free, the boxed Box 3-D from x0
-//! (code 7 at the same f, one evaluation sooner, short of the KKT test).
+//! 7 after 2 evaluations at f = 1.0e22).
 //!
 //! The box of each problem is computed from a 5000-iteration solve with a pinned configuration
 //! ([`problems::mgh::box_reference_options`], the Gauss-Newton model), so it does not move
 //! when the defaults change.
-//! No configuration returns a success code on a wrong unbounded answer; "77/78" marks one boxed
+//! No configuration returns a success code on a wrong unbounded answer, except the adaptive
+//! model switching at once with the correction: Beale from 10 x0 ends with X-convergence
+//! (code 3) at f = 0.22605 on its valley to infinity (whose infimum is 0.2260), a path the
+//! correction opened (the default, with the same correction, ends there at the iteration
+//! limit); "77/78" marks one boxed
 //! run ended by a success code short of the table's KKT test (with the previous boxes: N2FB's
 //! configuration on Meyer from 10 x0, code 4 at f = 9911.756 with the projected gradient still
 //! 1.7e-5 of the start's against the table's 1e-6; f has converged to RFCTOL, which is what
 //! code 4 claims). The unbounded failures of the default: Beale, Jennrich and Sampson, Meyer,
-//! Box 3-D, Osborne 1, Osborne 2 and Penalty II (n = 10) from 10 x0, Penalty II (n = 10) from
-//! x0. Without the secant scaling Brown and Dennis (both starts), Penalty I (n = 4, x0) and
+//! Box 3-D, Osborne 2 and Penalty II (n = 10) from 10 x0, Gulf Research from x0 (iteration
+//! limit at f = 4.1e-3; solved in 142 iterations without the second-order correction). Without
+//! the correction Osborne 1 from 10 x0 and Penalty II (n = 10) from x0 fail too, and Gulf
+//! Research is solved. Without the secant scaling Brown and Dennis (both starts), Penalty I (n = 4, x0) and
 //! Chebyquad (n = 7, 8, 10 x0) failed too and Osborne 1 from 10 x0 was solved (in 141
 //! iterations). Penalty II creeps in a curved valley (above); Box 3-D and Osborne 2 from 10 x0
 //! start where exponentials have died out (numerically dead columns, code 7); Jennrich and
@@ -442,24 +491,31 @@
 //!   a step of length `delta` along the valley raises `r_2n` by about `(n-j+1) delta^2`, a
 //!   quartic rise of f that neither quadratic model sees: steps of scaled length 9e-3 are
 //!   rejected, 3e-3 accepted with reductions near 5e-8, and the secant `S` (diagonal swinging
-//!   between -6 and +4 from one iteration to the next) does not help.
+//!   between -6 and +4 from one iteration to the next) does not help. That rise is what the
+//!   second-order correction (above) measures at a rejected step and takes out: from x0 the
+//!   default now reaches the minimum in 107 iterations (code 4); from 10 x0 it ends at the
+//!   evaluation limit 3.6e-5 relative above it.
 //! - *Osborne 1 from 10 x0*: from iteration 23 on the Gauss-Newton model is nearly singular
 //!   (Newton step 5e3 to 3e1 scaled long, lambda about 1e-8); steps with actual/predicted
 //!   0.3 to 0.9 keep RADFAC = 1 (N2FB's increase needs a reduction of 0.75 `|g^T s|`, about 1.5
 //!   PREDUC here), and f falls from 3.97e-5 to 3.57e-5 in 130 iterations (f* = 2.73e-5). The
 //!   model switched once (iteration 16, augmented Newton steps to a point where that model
-//!   predicted 2e-10) and back.
+//!   predicted 2e-10) and back. With the second-order correction (above) it is solved in 62
+//!   iterations.
 //!
-//! Issue 14's target of 90%
-//! (71/78) is therefore not met: the default reaches 70/78 (89.7%). Brown and Dennis takes 23
+//! Issue 14's target of 90% (71/78) is met by the default with the second-order correction
+//! (71/78, 91%; 70/78 without it, and 70 or 71 for correction limits from 0.25 to none, so the
+//! 71st run is at the margin; the correction's robust gain is in iterations, above). None of
+//! the remaining failures is a rule of N2FB that ours lacks. Brown and Dennis takes 23
 //! and 27 iterations with the default (target 30); it needs the augmented model, which the
 //! Gauss-Newton default before 2026-12-02 did not use (71 and 81). A sweep of both delays
 //! (secant scaling 0..3 x adaptive switching 1..3 updates per parameter) scored 68 to 71 of 78;
 //! 71 came with delays that let the switch happen inside AED's 10-iteration descents, which
 //! doubled AED's 90th percentile of sample-evaluations (520,683 to 1,137,329, 1000 seeds), so
 //! it was not chosen, and a count picked that way from the test set would not be a fair claim.
-//! MINPACK's never-decreasing scaling (`scaling_decay` 1, above) reaches 71/78 too, at the
-//! costs listed there, and is left an option for the same reason.
+//! MINPACK's never-decreasing scaling (`scaling_decay` 1, above) reached 71/78 too without the
+//! correction (72/78 with it), at the costs listed there, and is left an option for the same
+//! reason.
 //!
 //! ## Step model in the searches
 //! PORT's N2FB always uses NL2SOL's adaptive model choice. Switching from the first update made

@@ -27,6 +27,9 @@ const SHIFTED_TOL: f64 = 1e-15;
 const RADIUS_SLACK: f64 = 0.1;
 /// At most this many longer steps are tried from the same point in one iteration.
 const MAX_RADINC: i32 = 1;
+/// A second-order correction is tried only when it is at most this fraction of the step's
+/// scaled length (GSL's `avmax` for geodesic acceleration, Transtrum and Sethna 2012).
+const MAX_CORRECTION: f64 = 0.75;
 /// A step is accepted when the actual reduction exceeds this fraction of the predicted one.
 const ACCEPT_RATIO: f64 = 1e-4;
 /// A column of the scaled Jacobian `J D^-1` whose norm is at most this fraction of the largest
@@ -156,6 +159,14 @@ struct Workspace {
     x_good: Vec<f64>,
     r_good: Vec<f64>,
     step_good: Vec<f64>,
+    /// Second-order correction of a rejected step ([`Options::second_order_correction`]):
+    /// the model's error `r(x + s) - r(x) - J s` (length m), the right-hand side and solution
+    /// of the shifted system, its matrix and Cholesky factor, and the uncorrected step.
+    soc_e: Vec<f64>,
+    soc_b: Vec<f64>,
+    soc_a: Vec<f64>,
+    soc_l: Vec<f64>,
+    soc_step: Vec<f64>,
     /// Last Levenberg-Marquardt parameter, a warm start for the next subproblem.
     lambda: f64,
     /// Secant updates of `S` so far in this solve.
@@ -267,6 +278,8 @@ impl Workspace {
             &mut self.y,
             &mut self.ysharp,
             &mut self.secant_w,
+            &mut self.soc_b,
+            &mut self.soc_step,
         ] {
             grow(v, p);
         }
@@ -276,6 +289,7 @@ impl Workspace {
             &mut self.r_prev,
             &mut self.r_good,
             &mut self.rq,
+            &mut self.soc_e,
         ] {
             grow(v, m);
         }
@@ -295,6 +309,8 @@ impl Workspace {
             &mut self.qd_chol,
             &mut self.wide_gram,
             &mut self.wide_chol,
+            &mut self.soc_a,
+            &mut self.soc_l,
         ] {
             grow(v, p * p);
         }
@@ -838,6 +854,73 @@ impl Workspace {
             s += v * v;
         }
         s.sqrt()
+    }
+
+    /// Second-order correction of the rejected trial step `v` (in `step`, its residuals in
+    /// `r_trial`): `c` minimises `||J c + e||^2 + lambda ||D c||^2` with `e = r(x + v) - r(x)
+    /// - J v`, the part of the residuals' change the linear model missed, and `lambda` the
+    /// step's Levenberg parameter; `step` becomes `v + c` (cut to the box), `x_trial` its point.
+    /// Only with every variable free, and only when `||D c|| <= max_ratio ||D v||`; returns
+    /// whether the corrected step was set (`soc_step` keeps `v`).
+    fn corrected_step(&mut self, max_ratio: f64) -> bool {
+        let (m, p) = (self.m, self.p);
+        if self.fixed[..p].iter().any(|&f| f) {
+            return false;
+        }
+        for i in 0..m {
+            self.soc_e[i] = self.r_trial[i] - self.r[i];
+        }
+        for j in 0..p {
+            let sj = self.step[j];
+            for (e, &v) in self.soc_e[..m]
+                .iter_mut()
+                .zip(&self.jac[j * m..(j + 1) * m])
+            {
+                *e -= v * sj;
+            }
+        }
+        jt_vec(&self.jac, &self.soc_e, m, p, &mut self.soc_b);
+        for j in 0..p {
+            self.soc_b[j] = -self.soc_b[j] / self.d[j];
+            for k in 0..=j {
+                let v = dot(
+                    &self.rmat[j * p..(j + 1) * p],
+                    &self.rmat[k * p..(k + 1) * p],
+                );
+                self.soc_a[j * p + k] = v;
+                self.soc_a[k * p + j] = v;
+            }
+        }
+        if !cholesky_shifted(
+            &self.soc_a[..p * p],
+            self.lambda,
+            p,
+            SHIFTED_TOL,
+            &mut self.soc_l[..p * p],
+        ) {
+            return false;
+        }
+        forward_solve(&self.soc_l[..p * p], p, &mut self.soc_b[..p]);
+        backward_solve(&self.soc_l[..p * p], p, &mut self.soc_b[..p]);
+        let vnorm = self.scaled_norm_step();
+        let cnorm = norm(&self.soc_b[..p]);
+        if !(cnorm <= max_ratio * vnorm) {
+            return false;
+        }
+        self.soc_step[..p].copy_from_slice(&self.step[..p]);
+        for i in 0..p {
+            let t = (self.x[i] + self.step[i] + self.soc_b[i] / self.d[i])
+                .clamp(self.lo[i], self.hi[i]);
+            self.step[i] = t - self.x[i];
+            self.x_trial[i] = t;
+        }
+        true
+    }
+
+    /// Puts the uncorrected step back after a corrected one failed.
+    fn restore_uncorrected_step(&mut self) {
+        let p = self.p;
+        self.step[..p].copy_from_slice(&self.soc_step[..p]);
     }
 
     /// The singular-convergence test step (N2FB): PREDUC of the step re-solved at `radius`
@@ -1870,6 +1953,50 @@ impl<'o> Descent<'o> {
         })
     }
 
+    /// A rejected trial step gets one second-order correction
+    /// ([`Options::second_order_correction`], [`Workspace::corrected_step`]): when the corrected
+    /// step is accepted it replaces the trial, judged like any trial but against the uncorrected
+    /// step's PREDUC (the model predicted nothing for the correction), else the rejected trial
+    /// stands with its step.
+    fn correct_if_rejected<P: Problem>(
+        &mut self,
+        ws: &mut Workspace,
+        problem: &mut P,
+        trial: Trial,
+        assessment: Assessment,
+    ) -> (Trial, Assessment) {
+        if assessment.accepted
+            || !self.opt.second_order_correction
+            || trial.restored
+            || self.good.is_some()
+            || self.counts.residuals >= self.opt.max_evaluations
+            || !ws.corrected_step(MAX_CORRECTION)
+        {
+            return (trial, assessment);
+        }
+        let (m, p) = (ws.m, ws.p);
+        self.counts.residuals += 1;
+        let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
+        if evaluated {
+            let corrected = Trial {
+                info: StepInfo {
+                    newton: false,
+                    dnorm: ws.scaled_norm_step(),
+                    ..trial.info
+                },
+                f: half_sum_squares(&ws.r_trial[..m]),
+                reldx: ws.reldx(&ws.x_trial, &ws.x),
+                restored: false,
+            };
+            let judged = self.assess(ws, &corrected);
+            if judged.accepted {
+                return (corrected, judged);
+            }
+        }
+        ws.restore_uncorrected_step();
+        (trial, assessment)
+    }
+
     /// Takes the saved good step back as the trial step.
     fn restore_good(&mut self, ws: &mut Workspace) -> Trial {
         let good = self.good.take().expect("a saved good step");
@@ -2031,6 +2158,7 @@ fn iterate<P: Problem>(
             TrialResult::Evaluated(trial) => trial,
         };
         let assessment = descent.assess(ws, &trial);
+        let (trial, assessment) = descent.correct_if_rejected(ws, problem, trial, assessment);
         let gts = dot(&ws.g[..ws.p], &ws.step[..ws.p]);
         let change = descent
             .radius

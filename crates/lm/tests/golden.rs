@@ -94,6 +94,15 @@ fn current() -> String {
         ),
         ("n2fb", Options::n2fb()),
         ("default", Options::default()),
+        // The default before the second-order correction (2026-12-03): its lines are the
+        // former default's, so the option off is that solver bit for bit.
+        (
+            "no-correction",
+            Options {
+                second_order_correction: false,
+                ..Options::default()
+            },
+        ),
     ];
     let data: Vec<NistData> = NAMES.iter().map(|n| load(n)).collect();
     for (tag, options) in configs {

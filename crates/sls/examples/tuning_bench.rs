@@ -7,7 +7,7 @@
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
 //!     [--hold-dead-columns] [--singular-radius-at-least-x] [--stop-at-minimum-norm-step]
-//!     [--scaling-decay 0.6]
+//!     [--second-order-correction] [--scaling-decay 0.6]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
 //! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
@@ -22,6 +22,9 @@
 //! searches use N2FB's LMAXS alone). `--stop-at-minimum-norm-step` ends the search for the
 //! Levenberg parameter at a singular model's minimum-norm step, as the library's default does
 //! (`bounded_lm::Options::stop_at_minimum_norm_step`; the searches keep searching).
+//! `--second-order-correction` corrects a rejected descent step once for the residuals'
+//! curvature, as the library's default does (`bounded_lm::Options::second_order_correction`;
+//! the searches do not).
 //! `--scaling-decay F` sets how fast the descents' scaling may fall
 //! (`bounded_lm::Options::scaling_decay`; N2FB's 0.6 by default, 1 is MINPACK's rule).
 //! `--no-early-exit` computes every full-data RMSE in full (the
@@ -61,6 +64,7 @@ struct Args {
     hold_dead_columns: bool,
     singular_radius_at_least_x: bool,
     stop_at_minimum_norm_step: bool,
+    second_order_correction: bool,
     scaling_decay: f64,
 }
 
@@ -90,6 +94,9 @@ fn parse() -> Result<Args, String> {
         stop_at_minimum_norm_step: sls::DescentModel::default()
             .options()
             .stop_at_minimum_norm_step,
+        second_order_correction: sls::DescentModel::default()
+            .options()
+            .second_order_correction,
         scaling_decay: sls::DescentModel::default().options().scaling_decay,
     };
     let mut it = std::env::args().skip(1);
@@ -102,6 +109,7 @@ fn parse() -> Result<Args, String> {
             "--hold-dead-columns" => Some((&mut a.hold_dead_columns, true)),
             "--singular-radius-at-least-x" => Some((&mut a.singular_radius_at_least_x, true)),
             "--stop-at-minimum-norm-step" => Some((&mut a.stop_at_minimum_norm_step, true)),
+            "--second-order-correction" => Some((&mut a.second_order_correction, true)),
             "--no-secant-scaling" => Some((&mut a.secant_scaling, false)),
             "--no-early-exit" => Some((&mut a.early_exit, false)),
             "--verbose" => Some((&mut a.verbose, true)),
@@ -289,6 +297,7 @@ fn main() {
                 ctx.set_hold_dead_columns(args.hold_dead_columns);
                 ctx.set_singular_radius_at_least_x(args.singular_radius_at_least_x);
                 ctx.set_stop_at_minimum_norm_step(args.stop_at_minimum_norm_step);
+                ctx.set_second_order_correction(args.second_order_correction);
                 ctx.set_scaling_decay(args.scaling_decay);
                 let end = config.run(&mut ctx);
                 let r = ctx.finish(end);

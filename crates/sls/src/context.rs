@@ -330,6 +330,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.stop_at_minimum_norm_step = on;
     }
 
+    /// Whether a rejected descent step gets one second-order correction
+    /// (`bounded_lm::Options::second_order_correction`; off in the searches, see
+    /// [`DescentModel::options`]). For comparisons.
+    pub fn set_second_order_correction(&mut self, on: bool) {
+        self.options.second_order_correction = on;
+    }
+
     /// How fast the descents' scaling may fall (`bounded_lm::Options::scaling_decay`, N2FB's
     /// DFAC 0.6 by default; 1 is MINPACK's non-decreasing scaling). For comparisons.
     pub fn set_scaling_decay(&mut self, decay: f64) {

@@ -396,6 +396,7 @@ pub fn box_reference_options() -> Options {
         max_evaluations: 5000,
         model: StepModel::GaussNewton,
         scaling_decay: Options::NL2SOL_SCALING_DECAY,
+        second_order_correction: false,
         ..Options::default()
     }
 }
