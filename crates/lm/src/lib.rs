@@ -252,8 +252,8 @@
 //!   corrected step afresh scored 70/78 and 1046 NIST iterations; one that also corrected
 //!   steps with held variables (on the free ones) left NIST and the unbounded count as they
 //!   are but solved fewer boxed runs (KKT 74/78 with the default, 73/78 Gauss-Newton, 72/78
-//!   adaptive at once), so it is tried only with every variable free. The searches' descents keep it
-//!   off: on the tuning instance (200 seeds, `tuning_bench -- --algorithms aed,rpls
+//!   adaptive at once), so it is tried only with every variable free. The searches'
+//!   descents keep it off: on the tuning instance (200 seeds, `tuning_bench -- --algorithms aed,rpls
 //!   [--second-order-correction]`) AED's median sample-evaluations to RMSE 0.11 rose from
 //!   104,333 to 113,480 and its 90th percentile from 441,796 to 743,212 (RPLS 710,000 ->
 //!   720,000). `tests/robustness.rs` checks both valleys with and without it; the golden
