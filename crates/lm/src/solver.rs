@@ -1879,7 +1879,7 @@ impl<'o> Descent<'o> {
     /// Computes the step in the trust region and evaluates f there, or takes the saved good
     /// step when the longer one is not worth evaluating or does not beat it.
     fn trial_step<P: Problem>(&mut self, ws: &mut Workspace, problem: &mut P) -> TrialResult {
-        let (m, p) = (ws.m, ws.p);
+        let p = ws.p;
         let opt = self.opt;
         let info = ws.compute_step(self.radius.radius, self.model.augmented);
         if let Some(good) = self.good {
@@ -1915,14 +1915,7 @@ impl<'o> Descent<'o> {
         for i in 0..p {
             ws.x_trial[i] = (ws.x[i] + ws.step[i]).clamp(ws.lo[i], ws.hi[i]);
         }
-        self.counts.residuals += 1;
-        let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
-        let f_trial = if evaluated {
-            half_sum_squares(&ws.r_trial[..m])
-        } else {
-            f64::NAN
-        };
-        let reldx = ws.reldx(&ws.x_trial, &ws.x);
+        let (f_trial, reldx) = self.evaluate_trial_point(ws, problem);
         if let Some(good) = self.good {
             // DA7SST: a longer step that does not beat the saved one (or cannot be evaluated)
             // is dropped and the saved step taken.
@@ -1965,27 +1958,26 @@ impl<'o> Descent<'o> {
         trial: Trial,
         assessment: Assessment,
     ) -> (Trial, Assessment) {
+        // (No longer step is pending here: `trial_step` clears the saved good step before it
+        // returns an evaluated trial.)
         if assessment.accepted
             || !self.opt.second_order_correction
             || trial.restored
-            || self.good.is_some()
             || self.counts.residuals >= self.opt.max_evaluations
             || !ws.corrected_step(MAX_CORRECTION)
         {
             return (trial, assessment);
         }
-        let (m, p) = (ws.m, ws.p);
-        self.counts.residuals += 1;
-        let evaluated = problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]);
-        if evaluated {
+        let (f, reldx) = self.evaluate_trial_point(ws, problem);
+        if f.is_finite() {
             let corrected = Trial {
                 info: StepInfo {
                     newton: false,
                     dnorm: ws.scaled_norm_step(),
                     ..trial.info
                 },
-                f: half_sum_squares(&ws.r_trial[..m]),
-                reldx: ws.reldx(&ws.x_trial, &ws.x),
+                f,
+                reldx,
                 restored: false,
             };
             let judged = self.assess(ws, &corrected);
@@ -1995,6 +1987,23 @@ impl<'o> Descent<'o> {
         }
         ws.restore_uncorrected_step();
         (trial, assessment)
+    }
+
+    /// Evaluates the residuals at `x_trial` into `r_trial` (counted against the budget):
+    /// `f` there (NaN when they cannot be evaluated) and the step's RELDX.
+    fn evaluate_trial_point<P: Problem>(
+        &mut self,
+        ws: &mut Workspace,
+        problem: &mut P,
+    ) -> (f64, f64) {
+        let (m, p) = (ws.m, ws.p);
+        self.counts.residuals += 1;
+        let f = if problem.residuals(&ws.x_trial[..p], &mut ws.r_trial[..m]) {
+            half_sum_squares(&ws.r_trial[..m])
+        } else {
+            f64::NAN
+        };
+        (f, ws.reldx(&ws.x_trial, &ws.x))
     }
 
     /// Takes the saved good step back as the trial step.
