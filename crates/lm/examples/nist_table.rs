@@ -1,7 +1,7 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
 //! radius rule, without the secant term in the scaling, with MINPACK's non-decreasing scaling,
-//! without the second-order correction, and N2FB's configuration, which has none) and writes the per-problem table to
-//! `results/nist-lm.md` (workspace root). Regenerate with
+//! without the second-order correction, and N2FB's configuration, which has none) and writes
+//! the per-problem table to `results/nist-lm.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
 #[path = "../tests/common/nist.rs"]

@@ -163,16 +163,10 @@ pub struct Options {
     /// On curved valleys, where the quadratic models see only the tangent and steps beyond the
     /// valley's curvature fail, the corrected step follows the valley and the radius can grow:
     /// Penalty II (n = 10) from x0 and Osborne 1 from 10 x0, which crept to the iteration
-    /// limit, are solved (`tests/robustness.rs`). Measured 2026-12-03 (`mgh_table`,
-    /// `nist_table`): MGH unbounded 71/78 against 70/78 without it (Gulf Research from x0 lost
-    /// to the iteration limit), boxed KKT 75/78 against 74/78, iterations over the 78
-    /// unbounded runs 2251 against 2536; NIST 52/54 either way with 964 iterations and 1373
-    /// residual evaluations over the 54 runs against 1370 and 1708. The 0.75 is GSL's, not
-    /// tuned here; 0.25, 0.5, 1, 2 and no limit gave 70, 70, 71, 70 and 70 of the 78 and NIST
-    /// 52/54 with 954 to 1008 iterations. In the searches' descents it made AED slower (median
-    /// sample-evaluations to RMSE 0.11 on the tuning instance 104,333 -> 113,480, 90th
-    /// percentile 441,796 -> 743,212, 200 seeds; RPLS 710,000 -> 720,000), so they keep it
-    /// off.
+    /// limit, are solved (`tests/robustness.rs`). MGH unbounded 71/78 against 70/78 without
+    /// it, NIST 52/54 either way in 964 instead of 1370 iterations; the crate docs
+    /// ("Robustness") have the measurements, the sensitivity to the 0.75 and what it costs the
+    /// searches, which keep it off.
     pub second_order_correction: bool,
     /// Quadratic model (default [`StepModel::Adaptive`] after [`Options::adaptive_delay`];
     /// [`StepModel::GaussNewton`] never uses the augmented model: see the crate docs).

@@ -38,13 +38,6 @@ pub(crate) const LG: [f64; 7] = [
     1.531_383_769_920_937_332e-1,
     1.479_819_860_511_658_591e-1,
 ];
-const LG1: f64 = LG[0];
-const LG2: f64 = LG[1];
-const LG3: f64 = LG[2];
-const LG4: f64 = LG[3];
-const LG5: f64 = LG[4];
-const LG6: f64 = LG[5];
-const LG7: f64 = LG[6];
 
 /// How `a * b + c` is computed: [`Plain`] (two roundings, any CPU) or [`Fused`] (`mul_add`,
 /// only used inside functions compiled with FMA enabled, where it is one instruction).
@@ -132,8 +125,8 @@ fn ln_core<A: MulAdd, const SUBNORMAL: bool>(d: f64) -> f64 {
     let s = f / (2.0 + f);
     let z = s * s;
     let w = z * z;
-    let t1 = w * A::mad(w, A::mad(w, LG6, LG4), LG2);
-    let t2 = z * A::mad(w, A::mad(w, A::mad(w, LG7, LG5), LG3), LG1);
+    let t1 = w * A::mad(w, A::mad(w, LG[5], LG[3]), LG[1]);
+    let t2 = z * A::mad(w, A::mad(w, A::mad(w, LG[6], LG[4]), LG[2]), LG[0]);
     let r = t2 + t1;
     let hfsq = 0.5 * f * f;
     A::mad(e, LN2_HI, -((hfsq - A::mad(s, hfsq + r, e * LN2_LO)) - f))
