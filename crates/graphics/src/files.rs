@@ -5,6 +5,8 @@ use std::fs::File;
 use std::io::Write;
 use std::path::Path;
 
+use image::codecs::png::PngEncoder;
+use image::{ColorType, ImageEncoder};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -17,27 +19,36 @@ pub trait Figure {
 }
 
 /// Writes `figure` at `size` pixels to the PNG file `path`, atomically.
+///
+/// The figure is drawn and encoded in memory and written by [`write_atomic`], so a failed write
+/// (a full disk) reports the operating system's error and leaves no partial file.
 pub fn write_png(figure: &impl Figure, size: (u32, u32), path: &Path) -> Result<(), PlotError> {
     register_fonts();
     let draw_err = |message: String| PlotError::Draw {
         path: path.to_path_buf(),
         message,
     };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    // The bitmap encoder picks the format from the extension: keep ".png" last.
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
+    let (width, height) = size;
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
         figure.draw_on(&root).map_err(draw_err)?;
         root.present().map_err(|e| draw_err(e.to_string()))?;
     }
-    std::fs::rename(&tmp, path).map_err(|source| PlotError::Io {
+    let png = encode_png(&rgb, width, height).map_err(draw_err)?;
+    write_atomic(path, &png).map_err(|source| PlotError::Io {
         path: path.to_path_buf(),
         source,
     })
+}
+
+/// The PNG file's bytes of an 8-bit RGB image (`width * height * 3` bytes, row-major).
+pub fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
+    let mut png = Vec::new();
+    PngEncoder::new(&mut png)
+        .write_image(rgb, width, height, ColorType::Rgb8)
+        .map_err(|e| format!("PNG encoding: {e}"))?;
+    Ok(png)
 }
 
 /// Writes `figure` at `size` pixels to the SVG file `path`, atomically.
@@ -77,14 +88,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".into());
     let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    {
-        let mut f = File::create(&tmp)?;
+    let written = File::create(&tmp).and_then(|mut f| {
         f.write_all(bytes)?;
-        f.sync_all()?;
-    }
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
+        f.sync_all()
+    });
+    // On any failure (a full disk, most likely) the partial temporary goes too.
+    written
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .inspect_err(|_| {
+            let _ = std::fs::remove_file(&tmp);
+        })
 }
 
 #[cfg(test)]
@@ -102,5 +115,36 @@ mod tests {
             std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
             1
         );
+    }
+
+    struct Blank;
+
+    impl Figure for Blank {
+        fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+            root.fill(&WHITE).map_err(|e| e.to_string())
+        }
+    }
+
+    #[test]
+    fn a_png_is_written_whole_and_a_failed_write_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("blank.png");
+        write_png(&Blank, (30, 20), &p).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        // Width and height in the IHDR chunk, big-endian.
+        assert_eq!(bytes[16..24], [0, 0, 0, 30, 0, 0, 0, 20]);
+
+        // A non-empty directory where the file should go: the rename fails.
+        let taken = dir.path().join("taken.png");
+        std::fs::create_dir_all(taken.join("inside")).unwrap();
+        let err = write_png(&Blank, (30, 20), &taken).unwrap_err();
+        assert!(matches!(err, PlotError::Io { .. }), "{err}");
+        assert!(err.to_string().starts_with(&taken.display().to_string()));
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left.len(), 2, "{left:?}");
     }
 }

@@ -20,7 +20,6 @@
 use std::path::{Path, PathBuf};
 
 use brdf_model::BrdfParams;
-use plotters::prelude::*;
 use rayon::prelude::*;
 
 /// Rendering errors.
@@ -426,9 +425,8 @@ pub fn tone_map(img: &RadianceImage, opts: &RenderOptions) -> Vec<u8> {
     out
 }
 
-/// Writes an 8-bit RGB buffer (`width * height * 3` bytes, row-major) as a PNG at `path`
-/// (the extension should be `.png`: the encoder picks the format from it). Parent
-/// directories are created.
+/// Writes an 8-bit RGB buffer (`width * height * 3` bytes, row-major) as a PNG at `path`,
+/// atomically (see [`crate::files::write_atomic`]). Parent directories are created.
 pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), RenderError> {
     let err = |message: String| RenderError::Write {
         path: path.to_path_buf(),
@@ -441,15 +439,8 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
             width as usize * height as usize * 3
         )));
     }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| err(e.to_string()))?;
-    }
-    let mut backend = BitMapBackend::new(path, (width, height));
-    backend
-        .blit_bitmap((0, 0), (width, height), rgb)
-        .map_err(|e| err(e.to_string()))?;
-    backend.present().map_err(|e| err(e.to_string()))?;
-    Ok(())
+    let png = crate::files::encode_png(rgb, width, height).map_err(err)?;
+    crate::files::write_atomic(path, &png).map_err(|e| err(e.to_string()))
 }
 
 /// Renders `params` with `opts` and writes the PNG to `path` (see [`render_radiance`],

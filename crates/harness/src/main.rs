@@ -27,7 +27,7 @@ fn main() -> ExitCode {
             let code = cmd::exit_code(&e);
             if code != 0 {
                 use std::io::Write as _;
-                let _ = writeln!(std::io::stderr().lock(), "error: {e:#}");
+                let _ = writeln!(std::io::stderr().lock(), "error: {}", cmd::message(&e));
             }
             ExitCode::from(code)
         }

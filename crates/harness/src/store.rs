@@ -66,6 +66,17 @@ pub enum StoreError {
         /// The underlying error.
         source: std::io::Error,
     },
+    /// Appending a line failed; the file was cut back to its last complete line, so every
+    /// trial written before is kept and a later run resumes from there.
+    #[error(
+        "{path}: {source} (the file was cut back to its last complete line; run again to resume)"
+    )]
+    AppendFailed {
+        /// The results file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
     /// The results file was written for a different spec.
     #[error(
         "{path} holds results of a different spec (stored fingerprint {found}, this spec {expected}).\n\
@@ -677,14 +688,22 @@ impl ResultStore {
     }
 
     fn create(path: &Path, header: &Header) -> Result<File, StoreError> {
+        let text = encode_line(path, &Line::Header(header.clone()))?;
         let mut file = OpenOptions::new()
             .create_new(true)
             .append(true)
             .open(path)
             .map_err(io_err(path))?;
-        file.write_all(encode_line(path, &Line::Header(header.clone()))?.as_bytes())
+        if let Err(e) = file
+            .write_all(text.as_bytes())
             .and_then(|_| file.sync_data())
-            .map_err(io_err(path))?;
+        {
+            // A file holding part of a header is of no use and would only be moved aside by
+            // the next run: leave nothing behind.
+            drop(file);
+            let _ = std::fs::remove_file(path);
+            return Err(io_err(path)(e));
+        }
         Ok(file)
     }
 
@@ -692,9 +711,19 @@ impl ResultStore {
         let text = encode_line(&self.path, line)?;
         // A poisoned lock only means another worker panicked mid-trial; the file is still fine.
         let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
-        file.write_all(text.as_bytes())
-            .and_then(|_| file.flush())
-            .map_err(io_err(&self.path))
+        let complete = file.metadata().map_err(io_err(&self.path))?.len();
+        let written = file.write_all(text.as_bytes()).and_then(|_| file.flush());
+        written.map_err(|e| {
+            // A failed write (a full disk, say) may have left part of the line: cut the file
+            // back to its last complete line, so it stays whole for a later resume.
+            match file.set_len(complete) {
+                Ok(()) => StoreError::AppendFailed {
+                    path: self.path.clone(),
+                    source: e,
+                },
+                Err(_) => io_err(&self.path)(e),
+            }
+        })
     }
 
     /// Appends one finished trial (one write + flush under the lock).

@@ -162,3 +162,48 @@ fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
     // The folder is intact: every line parses.
     read_results(&dir.join("shared")).unwrap();
 }
+
+/// A write that fails part-way (here: the file-size limit, `EFBIG`; a full disk fails the same
+/// way) ends the run with status 1 and a message saying what happened, and leaves the results
+/// file cut back to its last complete line, so the next run resumes to the outcomes of an
+/// uninterrupted one.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
+    let o = command(dir, "whole").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let whole = outcomes(&dir.join("whole"));
+
+    // bash's `ulimit -f` counts KiB. With SIGXFSZ ignored (kept across exec), a write past
+    // the limit fails with EFBIG instead of killing the process.
+    let limited = command(dir, "limited");
+    let mut args: Vec<String> = vec![limited.get_program().to_string_lossy().into_owned()];
+    args.extend(limited.get_args().map(|a| a.to_string_lossy().into_owned()));
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 12; exec \"$@\"")
+        .arg("bash")
+        .args(&args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("cut back to its last complete line"), "{err}");
+    assert_eq!(err.matches("File too large").count(), 1, "{err}");
+
+    let text = std::fs::read(dir.join("limited/trials.jsonl")).unwrap();
+    assert!(text.len() <= 12 * 1024 && text.ends_with(b"\n"));
+    let kept = read_results(&dir.join("limited")).unwrap();
+    assert!(kept.torn.is_none());
+    assert!(kept.records.len() < whole.len());
+
+    let o = command(dir, "limited").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(outcomes(&dir.join("limited")), whole);
+}

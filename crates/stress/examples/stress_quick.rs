@@ -9,7 +9,7 @@ fn main() {
     let t = std::time::Instant::now();
     let report = brdf_stress::run(&opts).expect("stress run");
     report
-        .write_to(std::path::Path::new(&dir))
+        .write_to(std::path::Path::new(&dir), |p, b| std::fs::write(p, b))
         .expect("write report");
     println!(
         "{} in {:.1} s; {} of {} checks failed; report in {dir}",

@@ -79,20 +79,26 @@ impl StressReport {
         serde_json::to_string_pretty(self)
     }
 
-    /// Writes `stress.md` and `stress.json` into `dir` (created if missing).
-    pub fn write_to(&self, dir: &Path) -> Result<(), StressError> {
+    /// Writes `stress.md` and `stress.json` into `dir` (created if missing), each through
+    /// `write(path, bytes)`: the command line passes its atomic writer (temporary file, fsync,
+    /// rename), so a failed write never leaves half a report.
+    pub fn write_to(
+        &self,
+        dir: &Path,
+        write: impl Fn(&Path, &[u8]) -> std::io::Result<()>,
+    ) -> Result<(), StressError> {
         let io = |path: &Path, source| StressError::Io {
             path: path.display().to_string(),
             source,
         };
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
         let md = dir.join("stress.md");
-        std::fs::write(&md, self.to_markdown()).map_err(|e| io(&md, e))?;
+        write(&md, self.to_markdown().as_bytes()).map_err(|e| io(&md, e))?;
         let js = dir.join("stress.json");
         let text = self
             .to_json()
             .map_err(|e| io(&js, std::io::Error::other(e)))?;
-        std::fs::write(&js, text).map_err(|e| io(&js, e))?;
+        write(&js, text.as_bytes()).map_err(|e| io(&js, e))?;
         Ok(())
     }
 

@@ -55,6 +55,24 @@ pub fn input_error(message: impl Into<String>) -> anyhow::Error {
     InputError(message.into()).into()
 }
 
+/// The error and its causes joined by ": ", each cause left out when the message so far
+/// already holds it. Many errors here say `"{path}: {source}"` and also return the source as
+/// their cause, so the plain chain printed the operating system's message twice.
+pub fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out
+}
+
 /// True when the error (or one of its causes) is a closed pipe on our output.
 pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
@@ -143,4 +161,29 @@ pub fn flush_stdout() -> anyhow::Result<()> {
     std::io::stdout()
         .flush()
         .map_err(|e| anyhow::Error::new(e).context("writing to standard output"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cause_already_in_its_parents_message_is_printed_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::StorageFull, "No space left on device");
+        let store = harness::store::StoreError::Io {
+            path: "runs/x/trials.jsonl".into(),
+            source: io,
+        };
+        let e = anyhow::Error::new(store).context("running experiment `default`");
+        assert_eq!(
+            message(&e),
+            "running experiment `default`: runs/x/trials.jsonl: No space left on device"
+        );
+    }
+
+    #[test]
+    fn causes_not_in_the_message_are_all_kept() {
+        let e = anyhow::anyhow!("inner").context("middle").context("outer");
+        assert_eq!(message(&e), "outer: middle: inner");
+    }
 }

@@ -40,7 +40,7 @@ pub fn stress(a: StressArgs) -> Result<()> {
     };
     let report = brdf_stress::run(&options).context("running the stress test")?;
     report
-        .write_to(&out)
+        .write_to(&out, harness::store::write_atomic)
         .with_context(|| format!("writing the report to {}", out.display()))?;
     let plots = draw_plots(&report, &out.join("plots"))?;
     say!("{}", summary(&report));

@@ -16,9 +16,10 @@ use super::shared::{default_out, load_spec};
 use super::{bail_input, input_error, note, say};
 use crate::cli::TuneArgs;
 
-/// Writes `text` to `path`, naming the file in errors.
+/// Writes `text` to `path` atomically, naming the file in errors.
 fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+    harness::store::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
 }
 
 /// An absolute form of `p` (canonical when it exists).
