@@ -73,6 +73,14 @@ fn outcomes(dir: &Path) -> BTreeMap<String, (String, u64, u64)> {
         .collect()
 }
 
+/// Runs the spec in `dir` into `dir/out` to its end (resuming what is there) and returns the
+/// per-trial outcomes.
+fn run_to_end(dir: &Path, out: &str) -> BTreeMap<String, (String, u64, u64)> {
+    let o = command(dir, out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    outcomes(&dir.join(out))
+}
+
 fn trial_lines(dir: &Path) -> usize {
     std::fs::read_to_string(dir.join("trials.jsonl"))
         .map(|t| t.matches("\"type\":\"trial\"").count())
@@ -84,9 +92,7 @@ fn killed_runs_resume_to_the_uninterrupted_outcomes() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
-    let o = command(dir, "whole").output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let whole = outcomes(&dir.join("whole"));
+    let whole = run_to_end(dir, "whole");
     assert_eq!(whole.len(), 24);
 
     // Kill after 1, 3, 6 and 10 finished trials (and whatever was in flight), then finish.
@@ -103,9 +109,7 @@ fn killed_runs_resume_to_the_uninterrupted_outcomes() {
         let _ = child.kill();
         let _ = child.wait();
     }
-    let o = command(dir, "broken").output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let resumed = outcomes(&broken);
+    let resumed = run_to_end(dir, "broken");
     assert_eq!(
         resumed, whole,
         "resumed outcomes differ from the uninterrupted run"
@@ -173,9 +177,7 @@ fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
-    let o = command(dir, "whole").output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let whole = outcomes(&dir.join("whole"));
+    let whole = run_to_end(dir, "whole");
 
     // bash's `ulimit -f` counts KiB. With SIGXFSZ ignored (kept across exec), a write past
     // the limit fails with EFBIG instead of killing the process.
@@ -203,7 +205,5 @@ fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
     assert!(kept.torn.is_none());
     assert!(kept.records.len() < whole.len());
 
-    let o = command(dir, "limited").output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(outcomes(&dir.join("limited")), whole);
+    assert_eq!(run_to_end(dir, "limited"), whole);
 }
