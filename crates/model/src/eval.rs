@@ -774,7 +774,9 @@ fn all_finite(v: &[f64]) -> bool {
 /// of about 150 cycles and 100 vector instructions, more than a small out-of-order window
 /// (Zen 1's 192 micro-ops hold less than one 256-bit iteration) can overlap, while each stage
 /// alone is short enough for several iterations to be in flight. The arithmetic is the same
-/// as computing `d^n` sample by sample, so the results are bit-identical.
+/// as computing `d^n` sample by sample, so the results are bit-identical. On Zen 5 too an
+/// AVX2 kernel written with intrinsics in one pass (as `crate::avx512`) was slower than these
+/// staged loops in every run (docs/performance.md).
 const CHUNK: usize = 64;
 
 /// Adds lobe values to `out`; with `keep = Some((f, l))` also stores each sample's `d^n` in
