@@ -1,7 +1,7 @@
 //! The Jacobian's cost per lobe-sample for every kernel this CPU can run, as the *minimum* over
 //! many short batches: on a shared machine a median still moves by 20% from run to run, while
-//! the fastest batch of many is rarely disturbed, so alternating two builds of this example
-//! shows a 5% difference that `cpu_throughput`'s medians hide.
+//! the fastest batch of many is rarely disturbed. Alternating two builds of this example
+//! resolved a 9 to 15% change that `cpu_throughput`'s medians could not (docs/performance.md).
 //!
 //! ```text
 //! cargo run --release -p brdf-model --example jacobian_min

@@ -975,8 +975,9 @@ pub(crate) fn g_factors(n: f64) -> (f64, f64) {
 
 /// `col_i = g_i (a P + b Q + c R + e S)` for samples `lo..lo + col.len()`, `w = [a, b, c, e]`.
 /// Every direction column but Cz's has `e = 0` and Cz's is `[0, 0, 0, 1]`; those weights are
-/// left out of the sums ([`Weights`]), which changes nothing but the sign of a zero entry and
-/// took 9 to 15% off the AVX2 and portable Jacobians (docs/performance.md).
+/// left out of the sums ([`Weights`]), which (the products being finite) changes nothing but
+/// the sign of a zero entry and took 9 to 15% off the AVX2 and portable Jacobians
+/// (docs/performance.md).
 #[inline(always)]
 fn column<A: MulAdd>(d: &DataSet, lo: usize, g: &[f64], col: &mut [f64], w: [f64; 4]) {
     match Weights::of(w) {
