@@ -81,6 +81,15 @@ fn run_to_end(dir: &Path, out: &str) -> BTreeMap<String, (String, u64, u64)> {
     outcomes(&dir.join(out))
 }
 
+/// A temporary folder holding the spec and its uninterrupted run in `whole/`, with that run's
+/// per-trial outcomes: the reference a broken run must resume to.
+fn spec_and_whole_run() -> (tempfile::TempDir, BTreeMap<String, (String, u64, u64)>) {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("kill.toml"), SPEC).unwrap();
+    let whole = run_to_end(tmp.path(), "whole");
+    (tmp, whole)
+}
+
 fn trial_lines(dir: &Path) -> usize {
     std::fs::read_to_string(dir.join("trials.jsonl"))
         .map(|t| t.matches("\"type\":\"trial\"").count())
@@ -89,10 +98,8 @@ fn trial_lines(dir: &Path) -> usize {
 
 #[test]
 fn killed_runs_resume_to_the_uninterrupted_outcomes() {
-    let tmp = tempfile::tempdir().unwrap();
+    let (tmp, whole) = spec_and_whole_run();
     let dir = tmp.path();
-    std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
-    let whole = run_to_end(dir, "whole");
     assert_eq!(whole.len(), 24);
 
     // Kill after 1, 3, 6 and 10 finished trials (and whatever was in flight), then finish.
@@ -174,10 +181,8 @@ fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
-    let tmp = tempfile::tempdir().unwrap();
+    let (tmp, whole) = spec_and_whole_run();
     let dir = tmp.path();
-    std::fs::write(dir.join("kill.toml"), SPEC).unwrap();
-    let whole = run_to_end(dir, "whole");
 
     // bash's `ulimit -f` counts KiB. With SIGXFSZ ignored (kept across exec), a write past
     // the limit fails with EFBIG instead of killing the process.
