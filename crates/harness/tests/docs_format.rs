@@ -36,16 +36,18 @@ fn toml_blocks(doc: &str) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     let mut current: Option<(usize, String)> = None;
     for (i, line) in doc.lines().enumerate() {
-        match &mut current {
-            None if line.trim_start().starts_with("```toml") => current = Some((i + 1, String::new())),
-            Some((_, text)) if line.trim_start().starts_with("```") => {
-                out.push((current.take().unwrap().0, std::mem::take(text)));
-            }
-            Some((_, text)) => {
-                text.push_str(line);
-                text.push('\n');
+        let fence = line.trim_start().starts_with("```");
+        match current.take() {
+            None if line.trim_start().starts_with("```toml") => {
+                current = Some((i + 1, String::new()))
             }
             None => {}
+            Some(block) if fence => out.push(block),
+            Some((start, mut text)) => {
+                text.push_str(line);
+                text.push('\n');
+                current = Some((start, text));
+            }
         }
     }
     assert!(current.is_none(), "an unclosed ```toml block");
@@ -72,13 +74,27 @@ fn key_tables(doc: &str) -> BTreeMap<String, BTreeSet<String>> {
             lines.next();
         }
         while let Some(row) = lines.next_if(|l| l.starts_with('|')) {
-            let first = row.trim_start_matches('|').split('|').next().unwrap_or("").trim();
+            let first = row
+                .trim_start_matches('|')
+                .split('|')
+                .next()
+                .unwrap_or("")
+                .trim();
             if let Some(key) = first.strip_prefix('`').and_then(|k| k.strip_suffix('`')) {
-                assert!(keys.insert(key.to_string()), "table `{id}` lists `{key}` twice");
+                assert!(
+                    keys.insert(key.to_string()),
+                    "table `{id}` lists `{key}` twice"
+                );
             }
         }
-        assert!(!keys.is_empty(), "the table after `<!-- keys: {id} -->` lists no keys");
-        assert!(out.insert(id.clone(), keys).is_none(), "two tables marked `{id}`");
+        assert!(
+            !keys.is_empty(),
+            "the table after `<!-- keys: {id} -->` lists no keys"
+        );
+        assert!(
+            out.insert(id.clone(), keys).is_none(),
+            "two tables marked `{id}`"
+        );
     }
     out
 }
@@ -96,7 +112,10 @@ fn spec_with(kind: &str, file: bool, extra: &[(&str, &str)]) -> String {
     let source = if file {
         format!("[instance.file]\npath = \"x.csv\"\n{}", at("file"))
     } else {
-        format!("[instance.synthetic]\nparams = \"tuning\"\n{}", at("synthetic"))
+        format!(
+            "[instance.synthetic]\nparams = \"tuning\"\n{}",
+            at("synthetic")
+        )
     };
     format!(
         "seed = 1\ntrials = 1\n{}\
@@ -168,7 +187,10 @@ fn code_tables() -> BTreeMap<String, BTreeSet<String>> {
     let range = format!("[algorithm.sweep]\nphi = {{ from = 1, to = 2, steps = 2, {probe} }}");
     out.insert(
         "algorithm.sweep-range".into(),
-        accepted("sweep range", &spec_with("aed", false, &[("algorithm", &range)])),
+        accepted(
+            "sweep range",
+            &spec_with("aed", false, &[("algorithm", &range)]),
+        ),
     );
     out
 }
@@ -176,10 +198,16 @@ fn code_tables() -> BTreeMap<String, BTreeSet<String>> {
 #[test]
 fn every_toml_block_is_a_valid_spec() {
     let blocks = toml_blocks(&doc());
-    assert!(blocks.len() >= 3, "expected the page's examples, found {} toml blocks", blocks.len());
+    assert!(
+        blocks.len() >= 3,
+        "expected the page's examples, found {} toml blocks",
+        blocks.len()
+    );
     for (line, text) in blocks {
         if let Err(e) = parse(&text) {
-            panic!("docs/experiment-format.md, the toml block at line {line} does not validate: {e}");
+            panic!(
+                "docs/experiment-format.md, the toml block at line {line} does not validate: {e}"
+            );
         }
     }
 }
@@ -191,7 +219,9 @@ fn key_tables_list_exactly_the_accepted_keys() {
     let mut problems = Vec::new();
     for (id, keys) in &code {
         match documented.get(id) {
-            None => problems.push(format!("no table marked `<!-- keys: {id} -->` (keys {keys:?})")),
+            None => problems.push(format!(
+                "no table marked `<!-- keys: {id} -->` (keys {keys:?})"
+            )),
             Some(doc_keys) => {
                 let missing: Vec<_> = keys.difference(doc_keys).collect();
                 let extra: Vec<_> = doc_keys.difference(keys).collect();
@@ -206,10 +236,16 @@ fn key_tables_list_exactly_the_accepted_keys() {
     }
     for id in documented.keys() {
         if !code.contains_key(id) && id != "algorithm" {
-            problems.push(format!("a table marked `{id}`, which the test does not know"));
+            problems.push(format!(
+                "a table marked `{id}`, which the test does not know"
+            ));
         }
     }
-    assert!(problems.is_empty(), "docs/experiment-format.md:\n{}", problems.join("\n"));
+    assert!(
+        problems.is_empty(),
+        "docs/experiment-format.md:\n{}",
+        problems.join("\n")
+    );
 }
 
 #[test]
@@ -220,7 +256,11 @@ fn nested_annealing_tables_take_the_sa_keys() {
     for (kind, key) in [("sals", "first"), ("sals", "later"), ("avg", "sa")] {
         let line = format!("{key} = {probe}");
         let spec = spec_with(kind, false, &[("algorithm", &line)]);
-        assert_eq!(&accepted(&format!("{kind}.{key}"), &spec), sa, "{kind}.{key}");
+        assert_eq!(
+            &accepted(&format!("{kind}.{key}"), &spec),
+            sa,
+            "{kind}.{key}"
+        );
     }
 }
 
@@ -230,7 +270,10 @@ fn the_harness_own_algorithm_keys_are_accepted() {
     let common = documented
         .get("algorithm")
         .expect("a table marked `<!-- keys: algorithm -->`");
-    assert!(common.contains("kind"), "`kind` is missing from the [[algorithm]] table");
+    assert!(
+        common.contains("kind"),
+        "`kind` is missing from the [[algorithm]] table"
+    );
     let code = code_tables();
     for key in common {
         for kind in KINDS {
