@@ -23,20 +23,23 @@
 //! overflows to `+inf`, and then [`Evaluator::residuals`] / [`Evaluator::jacobian`] return
 //! false and [`Evaluator::sum_squares`] returns `+inf` (never NaN).
 //!
-//! Kernels ([`Kernel`], chosen per [`Evaluator`]: `auto` by default, or by name with
-//! [`Evaluator::with_kernel`] / [`Evaluator::set_kernel`]): [`Kernel::Scalar`] is the plain
-//! libm reference (one sample at a time, `powf` and `ln`); the fast per-sample loops call
+//! Kernels ([`Kernel`], from `brdf-simd`, chosen per [`Evaluator`]: `auto` by default, or by
+//! name with [`Evaluator::with_kernel`] / [`Evaluator::set_kernel`]): [`Kernel::Scalar`] is the
+//! plain libm reference (one sample at a time, `powf` and `ln`); the fast per-sample loops call
 //! branch-free `exp`/`ln` (no libm calls) and exist in three compiled copies, `auto` picking
-//! the best the running CPU has ([`SimdLevel`]), so one portable x86-64 binary uses what the
-//! machine has:
-//! - [`SimdLevel::Avx512`]: hand-written AVX-512F kernels, 8 lanes, `getexp`/`getmant` for the
+//! the best the running CPU has (detected once per process), so one portable x86-64 binary
+//! uses what the machine has:
+//! - [`Kernel::Avx512`]: hand-written AVX-512F kernels, 8 lanes, `getexp`/`getmant` for the
 //!   logarithm and `scalef` for the exponential; the Jacobian is written in the same pass as
 //!   the values (the data loaded once per lobe);
-//! - [`SimdLevel::Avx2`]: the generic loops compiled with AVX2+FMA (auto-vectorised, 4 lanes);
-//! - [`SimdLevel::Portable`]: the generic loops for the baseline target (SSE2).
+//! - [`Kernel::Avx2`]: the generic loops compiled with AVX2+FMA (auto-vectorised, 4 lanes);
+//! - [`Kernel::Portable`]: the generic loops for the baseline target (SSE2).
 //!
 //! All agree with the scalar `powf` reference ([`BrdfParams::value`](crate::BrdfParams::value))
-//! to about 3e-13 relative (test `evaluator_agrees_with_scalar_libm_reference`).
+//! to about 3e-13 relative (test `evaluator_agrees_with_scalar_libm_reference`), and with
+//! [`Kernel::Scalar`] to about 1e-12 relative over the whole Table 1 box; they report overflow
+//! (`d^n = +inf`) the same way and never produce NaN values (test
+//! `every_kernel_agrees_with_scalar_over_the_box`).
 
 use crate::data::{DataSet, View};
 use crate::fastmath::{
@@ -44,6 +47,7 @@ use crate::fastmath::{
     pow_from_ln_normal,
 };
 use crate::layout::{ExponentCoord, Field, Layout, LobeKind};
+pub use brdf_simd::{Kernel, KernelError};
 
 /// Where a model quantity comes from: a free-vector entry or a fixed value.
 #[derive(Clone, Copy, Debug)]
@@ -153,7 +157,8 @@ impl PowersKey {
 }
 
 impl Evaluator {
-    /// Builds the evaluation plan for `layout` and detects the CPU's SIMD support.
+    /// Builds the evaluation plan for `layout`, evaluated with the fastest kernel the CPU has
+    /// ([`Kernel::best`]).
     pub fn new(layout: &Layout) -> Self {
         let mut kd = Src::Fixed(0.0);
         let mut plans: Vec<LobePlan> = layout
@@ -206,7 +211,7 @@ impl Evaluator {
             h: Vec::new(),
             rbuf: Vec::new(),
             sub: DataSet::new(),
-            kernel: Kernel::Auto.concrete(),
+            kernel: Kernel::best(),
             powers: Vec::new(),
             powers_at: PowersKey::default(),
         }
@@ -241,40 +246,6 @@ impl Evaluator {
     /// The layout this evaluator was built for.
     pub fn layout(&self) -> &Layout {
         &self.layout
-    }
-
-    /// True when a SIMD copy of the loops (AVX2 or AVX-512) is in use.
-    pub fn uses_simd(&self) -> bool {
-        matches!(self.kernel, Kernel::Avx2 | Kernel::Avx512)
-    }
-
-    /// The copy of the loops in use ([`SimdLevel::Portable`] also for [`Kernel::Scalar`]).
-    pub fn simd_level(&self) -> SimdLevel {
-        match self.kernel {
-            Kernel::Avx512 => SimdLevel::Avx512,
-            Kernel::Avx2 => SimdLevel::Avx2,
-            _ => SimdLevel::Portable,
-        }
-    }
-
-    /// `false` forces the baseline-target loops; `true` selects the best level the CPU has.
-    /// For benchmarks and tests; results agree to rounding either way.
-    pub fn set_simd(&mut self, enabled: bool) {
-        self.kernel = if enabled {
-            SimdLevel::best().into()
-        } else {
-            Kernel::Portable
-        };
-    }
-
-    /// Selects a level; returns false (and changes nothing) when the CPU lacks it.
-    pub fn set_simd_level(&mut self, level: SimdLevel) -> bool {
-        if level.is_available() {
-            self.kernel = level.into();
-            true
-        } else {
-            false
-        }
     }
 
     fn prepare(&mut self, x: &[f64]) -> f64 {
@@ -543,203 +514,8 @@ fn residuals_keeping(
     }
 }
 
-/// The evaluation kernel: which implementation of the per-sample loops runs. A user-facing
-/// choice (`auto|avx512|avx2|portable|scalar`, the [`FromStr`](std::str::FromStr),
-/// [`Display`](std::fmt::Display) and serde spelling); [`Kernel::resolve`] turns it into the
-/// concrete kernel the running CPU executes.
-///
-/// All kernels agree with [`Kernel::Scalar`] to about 1e-12 relative (values) over the whole
-/// Table 1 box, report overflow (`d^n = +inf`) the same way, and never produce NaN values (test
-/// `every_kernel_agrees_with_scalar_over_the_box`).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Kernel {
-    /// The fastest kernel the CPU has (AVX-512, else AVX2, else portable).
-    #[default]
-    Auto,
-    /// Hand-written AVX-512F lobe kernels (8 lanes); needs AVX-512F, AVX2 and FMA.
-    Avx512,
-    /// The branch-free loops compiled with AVX2 and FMA (4 lanes); needs AVX2 and FMA.
-    Avx2,
-    /// The branch-free loops compiled for the baseline target (SSE2 on x86-64), any CPU.
-    Portable,
-    /// A plain, non-vectorised reference: one sample at a time with std's libm `powf` and `ln`.
-    /// Slow; the yardstick the other kernels are tested against.
-    Scalar,
-}
-
-/// A kernel name that is not known, or a kernel the running CPU cannot execute.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum KernelError {
-    /// Not one of `auto`, `avx512`, `avx2`, `portable`, `scalar`.
-    #[error("unknown kernel `{0}`: expected one of auto, avx512, avx2, portable, scalar")]
-    Unknown(String),
-    /// The CPU lacks the instructions the kernel needs.
-    #[error(
-        "the {kernel} kernel needs {needs}, which this CPU does not have (available: {available})"
-    )]
-    Unavailable {
-        /// The requested kernel.
-        kernel: Kernel,
-        /// The CPU features it needs.
-        needs: &'static str,
-        /// The kernels this CPU can run, comma-separated.
-        available: String,
-    },
-}
-
-impl Kernel {
-    /// Every choice, in the order `auto, avx512, avx2, portable, scalar`.
-    pub const ALL: [Kernel; 5] = [
-        Kernel::Auto,
-        Kernel::Avx512,
-        Kernel::Avx2,
-        Kernel::Portable,
-        Kernel::Scalar,
-    ];
-
-    /// The lowercase name: `"auto"`, `"avx512"`, `"avx2"`, `"portable"`, `"scalar"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kernel::Auto => "auto",
-            Kernel::Avx512 => "avx512",
-            Kernel::Avx2 => "avx2",
-            Kernel::Portable => "portable",
-            Kernel::Scalar => "scalar",
-        }
-    }
-
-    /// True when the running CPU can execute this kernel (always for `auto`, `portable` and
-    /// `scalar`).
-    pub fn is_available(self) -> bool {
-        match self {
-            Kernel::Auto | Kernel::Portable | Kernel::Scalar => true,
-            Kernel::Avx2 => SimdLevel::Avx2.is_available(),
-            Kernel::Avx512 => SimdLevel::Avx512.is_available(),
-        }
-    }
-
-    /// The concrete kernels the running CPU can execute, fastest first (never `auto`).
-    pub fn available() -> Vec<Kernel> {
-        [
-            Kernel::Avx512,
-            Kernel::Avx2,
-            Kernel::Portable,
-            Kernel::Scalar,
-        ]
-        .into_iter()
-        .filter(|k| k.is_available())
-        .collect()
-    }
-
-    /// `auto` -> the fastest available kernel; any other kernel -> itself.
-    fn concrete(self) -> Kernel {
-        match self {
-            Kernel::Auto => SimdLevel::best().into(),
-            k => k,
-        }
-    }
-
-    /// The concrete kernel this choice runs on this CPU: `auto` becomes the fastest available
-    /// one, the others themselves.
-    ///
-    /// # Errors
-    /// [`KernelError::Unavailable`] when the CPU lacks the requested kernel's instructions.
-    pub fn resolve(self) -> Result<Kernel, KernelError> {
-        if self.is_available() {
-            return Ok(self.concrete());
-        }
-        Err(KernelError::Unavailable {
-            kernel: self,
-            needs: match self {
-                Kernel::Avx512 => "AVX-512F, AVX2 and FMA",
-                _ => "AVX2 and FMA",
-            },
-            available: Kernel::available()
-                .iter()
-                .map(|k| k.name())
-                .collect::<Vec<_>>()
-                .join(", "),
-        })
-    }
-}
-
-impl std::fmt::Display for Kernel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Kernel {
-    type Err = KernelError;
-    /// Parses the lowercase names of [`Kernel::name`] (surrounding spaces and case ignored).
-    fn from_str(s: &str) -> Result<Self, KernelError> {
-        let t = s.trim().to_ascii_lowercase();
-        Kernel::ALL
-            .into_iter()
-            .find(|k| k.name() == t)
-            .ok_or_else(|| KernelError::Unknown(s.to_string()))
-    }
-}
-
-impl From<SimdLevel> for Kernel {
-    fn from(level: SimdLevel) -> Self {
-        match level {
-            SimdLevel::Portable => Kernel::Portable,
-            SimdLevel::Avx2 => Kernel::Avx2,
-            SimdLevel::Avx512 => Kernel::Avx512,
-        }
-    }
-}
-
 const GENERIC: u8 = 0;
 const AVX512: u8 = 2;
-
-/// Which compiled copy of the evaluation loops runs. All give the same results to rounding.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SimdLevel {
-    /// Loops compiled for the baseline target (SSE2 on x86-64), no FMA.
-    Portable,
-    /// Loops compiled with AVX2 and FMA (4 lanes, auto-vectorised).
-    Avx2,
-    /// Hand-written AVX-512F lobe kernels (8 lanes) plus the AVX2 loops for the rest.
-    Avx512,
-}
-
-impl SimdLevel {
-    /// True when the running CPU supports this level.
-    pub fn is_available(self) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let avx2 =
-                std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
-            match self {
-                SimdLevel::Portable => true,
-                SimdLevel::Avx2 => avx2,
-                SimdLevel::Avx512 => avx2 && std::is_x86_feature_detected!("avx512f"),
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            self == SimdLevel::Portable
-        }
-    }
-
-    /// The levels the running CPU supports, slowest first.
-    pub fn available() -> Vec<SimdLevel> {
-        [SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512]
-            .into_iter()
-            .filter(|l| l.is_available())
-            .collect()
-    }
-
-    /// The fastest level the running CPU supports.
-    pub fn best() -> SimdLevel {
-        *Self::available().last().unwrap_or(&SimdLevel::Portable)
-    }
-}
 
 /// Sum of squares with 8 independent accumulators (a single ordered accumulator would make
 /// the loop latency-bound and block vectorisation).
