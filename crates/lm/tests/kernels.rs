@@ -48,7 +48,11 @@ fn all_solves() -> Vec<Fingerprint> {
 
 #[test]
 fn every_kernel_gives_the_same_solves_bit_for_bit() {
-    assert_eq!(kernel(), Kernel::best(), "the default is the fastest kernel");
+    assert_eq!(
+        kernel(),
+        Kernel::best(),
+        "the default is the fastest kernel"
+    );
     set_kernel(Kernel::Portable).unwrap();
     let reference = all_solves();
     assert!(reference.iter().any(|f| f.1 > 3), "the solves iterate");

@@ -12,7 +12,7 @@
 //! same point, reusing the kept powers, as a descent's accepted step does), in wall-clock ns
 //! per lobe-sample: the fastest of 40 batches of 20 calls.
 
-use brdf_model::{DataSet, Evaluator, Layout, LobeKind, Kernel, named_params, synthetic};
+use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
 use std::hint::black_box;
 use std::io::Write;
 use std::time::Instant;
@@ -80,7 +80,11 @@ fn run(out: &mut impl Write) -> std::io::Result<()> {
             .build()
             .expect("a valid layout");
         let x = layout.encode(&params);
-        for kernel in Kernel::available().into_iter().rev().filter(|&k| k != Kernel::Scalar) {
+        for kernel in Kernel::available()
+            .into_iter()
+            .rev()
+            .filter(|&k| k != Kernel::Scalar)
+        {
             measure(out, kernel, &layout, &x, &data, lobes)?;
         }
     }

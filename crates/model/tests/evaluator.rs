@@ -2,7 +2,7 @@
 //! agreement with the scalar libm reference, overflow handling.
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, ExponentCoord, Layout, Lobe, Kernel, LobeKind, named_params,
+    BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, Layout, Lobe, LobeKind, named_params,
     synthetic,
 };
 use rand::{RngExt, SeedableRng};

@@ -168,7 +168,10 @@ mod tests {
     fn names_parse_back_and_index_is_the_position_in_all() {
         for (i, k) in Kernel::ALL.into_iter().enumerate() {
             assert_eq!(k.name().parse::<Kernel>(), Ok(k));
-            assert_eq!(format!(" {} ", k.name().to_uppercase()).parse::<Kernel>(), Ok(k));
+            assert_eq!(
+                format!(" {} ", k.name().to_uppercase()).parse::<Kernel>(),
+                Ok(k)
+            );
             assert_eq!(usize::from(k.index()), i);
         }
     }
