@@ -40,6 +40,8 @@ pub trait Executor: Sync {
 pub struct Provenance {
     /// The concrete kernel (`avx2`, `portable`, ...), empty when not applicable.
     pub kernel: String,
+    /// The solver's concrete kernel ([`bounded_lm::kernel`]), empty when not applicable.
+    pub solver_kernel: String,
     /// Instance name -> [`crate::seed::data_hash`] of its data.
     pub data_hashes: BTreeMap<String, String>,
 }
@@ -54,9 +56,11 @@ pub struct SlsExecutor {
 
 impl SlsExecutor {
     /// Builds every instance's data set once (shared read-only by all trials), evaluated with
-    /// `kernel` (resolved here; an unavailable kernel is an error).
+    /// `kernel` (resolved here; an unavailable kernel is an error), which also becomes the
+    /// solver's process-wide kernel ([`bounded_lm::set_kernel`]).
     pub fn new(spec: &Spec, kernel: Kernel) -> Result<(Self, Vec<BuiltInstance>), InstanceError> {
         let kernel = kernel.resolve()?;
+        let solver_kernel = bounded_lm::set_kernel(kernel)?;
         let built: Vec<BuiltInstance> = spec
             .instances
             .iter()
@@ -72,6 +76,7 @@ impl SlsExecutor {
             .collect::<Result<_, _>>()?;
         let provenance = Provenance {
             kernel: kernel.to_string(),
+            solver_kernel: solver_kernel.to_string(),
             data_hashes: spec
                 .instances
                 .iter()
@@ -231,6 +236,7 @@ pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Heade
         spec_text: spec.text.clone(),
         program_version: crate::PROGRAM_VERSION.to_string(),
         kernel: provenance.kernel.clone(),
+        solver_kernel: provenance.solver_kernel.clone(),
         data_hashes: provenance.data_hashes.clone(),
         shard: None,
         best_known: spec.best_known(),

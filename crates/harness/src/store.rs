@@ -194,6 +194,9 @@ pub struct Header {
     /// The evaluation kernel of the first session (empty in older files).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub kernel: String,
+    /// The solver's kernel of the first session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub solver_kernel: String,
     /// Instance name -> hash of its data ([`crate::seed::data_hash`]); a resume on different
     /// data is refused. Empty in older files (then nothing is checked).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -227,6 +230,9 @@ pub struct Session {
     /// The evaluation kernel of this session (empty in older files).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub kernel: String,
+    /// The solver's kernel of this session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub solver_kernel: String,
     /// Instance name -> best-known RMSE this session used (empty in older files).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub best_known: BTreeMap<String, crate::best_known::BestKnown>,
@@ -678,6 +684,7 @@ impl ResultStore {
             spec_text: header.spec_text.clone(),
             program_version: crate::PROGRAM_VERSION.to_string(),
             kernel: header.kernel.clone(),
+            solver_kernel: header.solver_kernel.clone(),
             best_known: header.best_known.clone(),
         }))?;
         Ok(Opened {
@@ -777,6 +784,7 @@ mod tests {
             spec_text: String::new(),
             program_version: String::new(),
             kernel: String::new(),
+            solver_kernel: String::new(),
             data_hashes: BTreeMap::new(),
             shard: None,
             best_known: BTreeMap::new(),

@@ -563,6 +563,8 @@ pub mod problems;
 pub mod qr;
 mod solver;
 
+pub use brdf_simd::{Kernel, KernelError};
+pub use linalg::dispatch::{kernel, set_kernel};
 pub use options::{Options, Outcome, RadiusUpdate, Report, SolveError, StepModel};
 pub use problem::{ForwardDifference, Problem, ResidualsOnly};
 pub use solver::Solver;

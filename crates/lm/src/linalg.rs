@@ -6,6 +6,10 @@
 pub(crate) mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx512;
+pub(crate) mod dispatch;
+
+#[cfg(target_arch = "x86_64")]
+use brdf_simd::Kernel;
 
 /// Dot product with four accumulators so the compiler can vectorise the long (m-row) sums.
 #[inline]
@@ -32,9 +36,10 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// `sq[j] = col . col`, `jr[j] = col . r` and `amax[j] = max |col_i|`, in one pass over `jac`.
 /// Each sum equals [`dot`]'s result bit for bit (see [`column_survey`]).
 ///
-/// On x86-64 with AVX2 the pass runs with intrinsics ([`avx2::column_survey`]), four columns at
+/// With the solver's kernel ([`dispatch::kernel`]) `avx2` the pass runs with intrinsics
+/// ([`avx2::column_survey`]), four columns at
 /// a time (at 10000 x 7, 14.8 us one column at a time, 10.4 two, 8.7-9.3 four, in one run),
-/// and with AVX-512F eight rows per instruction ([`avx512::column_survey`], the same bits).
+/// and with `avx512` eight rows per instruction ([`avx512::column_survey`], the same bits).
 /// The baseline SSE2 build split the four lanes over shuffled half registers, and this pass
 /// took 20% of an RPLS run (`perf`), twice the Jacobian kernel.
 #[allow(clippy::too_many_arguments)]
@@ -50,17 +55,13 @@ pub(crate) fn survey_columns(
     let (jac, r) = (&jac[..m * p], &r[..m]);
     let mut out = |j: usize, s: (f64, f64, f64)| (sq[j], jr[j], amax[j]) = s;
     #[cfg(target_arch = "x86_64")]
-    {
-        if avx512::available() {
-            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
-            unsafe { survey_columns_avx512(jac, r, m, p, &mut out) };
-            return;
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            unsafe { survey_columns_avx2(jac, r, m, p, &mut out) };
-            return;
-        }
+    match dispatch::kernel() {
+        // SAFETY: the solver's kernel is one the CPU has, and the AVX-512 kernel's features
+        // (AVX-512F, AVX2, FMA) and the AVX2 kernel's (AVX2, FMA) include the builds'.
+        Kernel::Avx512 => return unsafe { survey_columns_avx512(jac, r, m, p, &mut out) },
+        // SAFETY: as above.
+        Kernel::Avx2 => return unsafe { survey_columns_avx2(jac, r, m, p, &mut out) },
+        _ => {}
     }
     for j in 0..p {
         out(j, column_survey(&jac[j * m..(j + 1) * m], r));
@@ -256,22 +257,17 @@ pub(crate) fn upper_transpose_solve(t: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// `out = J^T v`, each entry exactly [`dot`]'s result; on x86-64 with AVX2 or AVX-512F
-/// intrinsics, four columns per pass over `v` ([`avx2::multi_dot`], [`avx512::multi_dot`],
-/// the same bits).
+/// `out = J^T v`, each entry exactly [`dot`]'s result; with the solver's kernel `avx2` or
+/// `avx512`, intrinsics, four columns per pass over `v` ([`avx2::multi_dot`],
+/// [`avx512::multi_dot`], the same bits).
 pub(crate) fn jt_vec(jac: &[f64], v: &[f64], m: usize, p: usize, out: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
-    {
-        if avx512::available() {
-            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
-            unsafe { jt_vec_avx512(jac, v, m, p, out) };
-            return;
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            unsafe { jt_vec_avx2(jac, v, m, p, out) };
-            return;
-        }
+    match dispatch::kernel() {
+        // SAFETY: as in `survey_columns`.
+        Kernel::Avx512 => return unsafe { jt_vec_avx512(jac, v, m, p, out) },
+        // SAFETY: as above.
+        Kernel::Avx2 => return unsafe { jt_vec_avx2(jac, v, m, p, out) },
+        _ => {}
     }
     for j in 0..p {
         out[j] = dot(&jac[j * m..(j + 1) * m], v);
@@ -391,8 +387,8 @@ mod tests {
                 jt_vec_avx512(jac, v, m, p, &mut o.3);
             };
             for (build, has, run) in [
-                ("avx2", std::arch::is_x86_feature_detected!("avx2"), avx2),
-                ("avx512", crate::linalg::avx512::available(), avx512),
+                ("avx2", Kernel::Avx2.is_available(), avx2),
+                ("avx512", Kernel::Avx512.is_available(), avx512),
             ] {
                 if has {
                     let mut o = empty();

@@ -13,8 +13,9 @@
 //!   copy of `J` and no `m`-vector copy of `r` is written. Within a block, the pass that applies
 //!   one column's reflector also accumulates the next column's dot products (and the load of
 //!   the block those of the first step), so each step reads the block once instead of three
-//!   times; on x86-64 the long loops run with AVX2 intrinsics (private module `avx2`) or, where
-//!   the CPU has AVX-512F, eight rows per instruction (private module `avx512`). All of these
+//!   times; on x86-64 the long loops run with AVX2 intrinsics or, with AVX-512F, eight rows per
+//!   instruction (one source for both widths, private module `wide`), as the solver's kernel
+//!   says ([`crate::set_kernel`]). All of these
 //!   leave every result bit for bit as before (unit tests), and together they more than halved
 //!   the QR's time at 10000 x 7 (the README has the one-run comparisons).
 //!
@@ -22,6 +23,8 @@
 //! `Q^T rhs`; `R^T R = A^T A` and `R^T c = A^T rhs` up to round-off.
 
 use crate::linalg::{dot, norm};
+#[cfg(target_arch = "x86_64")]
+use brdf_simd::Kernel;
 
 /// Rows per block of [`tall_qr`]: 128 rows of up to 31 columns (plus the right-hand side) are
 /// about 32 KB, L1-sized. Longer blocks would be faster (each block costs a chain of scalar
@@ -143,17 +146,13 @@ pub fn tall_qr(
     let (r, c) = (&mut r[..cols * cols], &mut c[..cols]);
     let scratch = &mut scratch[..tall_qr_scratch_len(cols)];
     #[cfg(target_arch = "x86_64")]
-    {
-        if crate::linalg::avx512::available() {
-            // SAFETY: the CPU has AVX-512F and AVX2 (checked just above).
-            unsafe { m.run_avx512(r, c, scratch) };
-            return;
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            unsafe { m.run_avx2(r, c, scratch) };
-            return;
-        }
+    match crate::linalg::dispatch::kernel() {
+        // SAFETY: the solver's kernel is one the CPU has, and AVX-512 (AVX-512F, AVX2, FMA)
+        // and AVX2 (AVX2, FMA) include the features of the builds.
+        Kernel::Avx512 => return unsafe { m.run_avx512(r, c, scratch) },
+        // SAFETY: as above.
+        Kernel::Avx2 => return unsafe { m.run_avx2(r, c, scratch) },
+        _ => {}
     }
     m.run(r, c, scratch);
 }
@@ -168,23 +167,23 @@ struct TallQr<'a> {
 }
 
 impl TallQr<'_> {
-    /// The same algorithm with AVX2 intrinsics for the long loops ([`avx2::Avx2`]). Lane `k`
+    /// The same algorithm with AVX2 intrinsics for the long loops ([`wide::Avx2`]). Lane `k`
     /// of each register is the portable code's accumulator `k` and there is no fused
     /// multiply-add (Rust never contracts `a * b + c`), so the results are bit-identical to
     /// [`TallQr::run`]'s (a unit test checks it) and do not depend on the machine.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn run_avx2(&self, r: &mut [f64], c: &mut [f64], scratch: &mut [f64]) {
-        self.run_with::<avx2::Avx2>(r, c, scratch);
+        self.run_with::<wide::Avx2>(r, c, scratch);
     }
 
-    /// [`TallQr::run_avx2`] with eight rows per instruction ([`avx512::Avx512`]); the dot
+    /// [`TallQr::run_avx2`] with eight rows per instruction ([`wide::Avx512`]); the dot
     /// products still add four lanes in the portable order, so the bits are again
     /// [`TallQr::run`]'s.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx2")]
     fn run_avx512(&self, r: &mut [f64], c: &mut [f64], scratch: &mut [f64]) {
-        self.run_with::<avx512::Avx512>(r, c, scratch);
+        self.run_with::<wide::Avx512>(r, c, scratch);
     }
 
     /// The portable build.
@@ -472,7 +471,7 @@ fn update<V: BlockOps, const G: usize>(
 }
 
 /// The long loops of the block fold, in two builds that give the same bits: [`Portable`] and,
-/// on x86-64, [`avx2::Avx2`]. Every dot product is summed as [`dot`] sums: four lanes over
+/// on x86-64, [`wide::Avx2`] and [`wide::Avx512`]. Every dot product is summed as [`dot`] sums: four lanes over
 /// chunks of four (lane `l` adds `x[4i + l] * y[4i + l]` in order), `(l0 + l2) + (l1 + l3)`,
 /// then the tail rows in order.
 trait BlockOps {
@@ -610,9 +609,7 @@ fn block_reflector<V: BlockOps>(rkk: f64, sigma: f64, bk: &mut [f64]) -> Option<
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx2;
-#[cfg(target_arch = "x86_64")]
-mod avx512;
+mod wide;
 
 #[cfg(test)]
 mod tests {
@@ -703,8 +700,8 @@ mod tests {
             assert_eq!(bits(&c0), bits(&c1), "dispatched c, case {case}");
             #[cfg(target_arch = "x86_64")]
             for (build, has) in [
-                ("avx2", std::arch::is_x86_feature_detected!("avx2")),
-                ("avx512", crate::linalg::avx512::available()),
+                ("avx2", Kernel::Avx2.is_available()),
+                ("avx512", Kernel::Avx512.is_available()),
             ] {
                 if !has {
                     continue;

@@ -11,7 +11,7 @@
 //! same loops in thread CPU time.
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, Layout, LobeKind, SimdLevel, named_params, synthetic,
+    BrdfParams, DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic,
 };
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -76,10 +76,13 @@ fn bench(c: &mut Criterion) {
         g.bench_function("scalar-powf", |b| {
             b.iter(|| scalar_values(black_box(&params), &data, &mut r))
         });
-        for level in SimdLevel::available() {
-            let mut ev = Evaluator::new(&layout);
-            ev.set_simd_level(level);
-            g.bench_function(format!("{level:?}"), |b| {
+        for kernel in Kernel::available()
+            .into_iter()
+            .rev()
+            .filter(|&k| k != Kernel::Scalar)
+        {
+            let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
+            g.bench_function(format!("{kernel:?}"), |b| {
                 b.iter(|| assert!(ev.residuals(black_box(&x), &data, &mut r)))
             });
         }
@@ -90,10 +93,13 @@ fn bench(c: &mut Criterion) {
         g.bench_function("scalar-powf", |b| {
             b.iter(|| scalar_jacobian(black_box(&params), &data, &mut r, &mut jac))
         });
-        for level in SimdLevel::available() {
-            let mut ev = Evaluator::new(&layout);
-            ev.set_simd_level(level);
-            g.bench_function(format!("{level:?}"), |b| {
+        for kernel in Kernel::available()
+            .into_iter()
+            .rev()
+            .filter(|&k| k != Kernel::Scalar)
+        {
+            let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
+            g.bench_function(format!("{kernel:?}"), |b| {
                 b.iter(|| {
                     assert!(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac))
                 })

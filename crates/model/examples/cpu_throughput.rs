@@ -3,7 +3,7 @@
 //! sharing the cores. `cargo run --release -p brdf-model --example cpu_throughput`
 //! prints the median over repetitions of ns per lobe-sample for each variant.
 
-use brdf_model::{Evaluator, Layout, LobeKind, SimdLevel, named_params, synthetic};
+use brdf_model::{Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
 use std::hint::black_box;
 
 fn cpu_ns() -> Option<u64> {
@@ -56,10 +56,13 @@ fn main() {
             }
         });
         println!("{lobes} lobe(s) values   scalar-powf: {scalar:6.2} ns/lobe-sample");
-        for level in SimdLevel::available() {
-            let mut ev = Evaluator::new(&layout);
-            ev.set_simd_level(level);
-            let label = format!("{level:?}");
+        for kernel in Kernel::available()
+            .into_iter()
+            .rev()
+            .filter(|&k| k != Kernel::Scalar)
+        {
+            let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
+            let label = format!("{kernel:?}");
             let v = measure(&mut || {
                 black_box(ev.residuals(black_box(&x), &data, &mut r));
             });

@@ -12,7 +12,7 @@
 //! same point, reusing the kept powers, as a descent's accepted step does), in wall-clock ns
 //! per lobe-sample: the fastest of 40 batches of 20 calls.
 
-use brdf_model::{DataSet, Evaluator, Layout, LobeKind, SimdLevel, named_params, synthetic};
+use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
 use std::hint::black_box;
 use std::io::Write;
 use std::time::Instant;
@@ -37,14 +37,13 @@ fn fastest_batch(per: f64, mut f: impl FnMut()) -> f64 {
 /// Writes one kernel's line for `lobes` lobes.
 fn measure(
     out: &mut impl Write,
-    level: SimdLevel,
+    kernel: Kernel,
     layout: &Layout,
     x: &[f64],
     data: &DataSet,
     lobes: usize,
 ) -> std::io::Result<()> {
-    let mut ev = Evaluator::new(layout);
-    ev.set_simd_level(level);
+    let mut ev = Evaluator::with_kernel(layout, kernel).expect("an available kernel");
     let mut r = vec![0.0; SAMPLES];
     let mut jac = vec![0.0; SAMPLES * layout.dim()];
     let per = (SAMPLES * lobes) as f64;
@@ -56,7 +55,7 @@ fn measure(
         black_box(ev.residuals(black_box(x), data, &mut r));
         black_box(ev.residuals_and_jacobian(black_box(x), data, &mut r, &mut jac));
     });
-    let name = format!("{level:?}");
+    let name = format!("{kernel:?}");
     writeln!(
         out,
         "{lobes} lobe(s) {name:>8}: jac {jac_ns:6.3}  step {step_ns:6.3}"
@@ -81,8 +80,12 @@ fn run(out: &mut impl Write) -> std::io::Result<()> {
             .build()
             .expect("a valid layout");
         let x = layout.encode(&params);
-        for level in SimdLevel::available() {
-            measure(out, level, &layout, &x, &data, lobes)?;
+        for kernel in Kernel::available()
+            .into_iter()
+            .rev()
+            .filter(|&k| k != Kernel::Scalar)
+        {
+            measure(out, kernel, &layout, &x, &data, lobes)?;
         }
     }
     Ok(())

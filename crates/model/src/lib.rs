@@ -18,7 +18,8 @@
 //! - [`params`]: physical parameters ([`BrdfParams`], [`Lobe`]) and [`named_params`].
 //! - [`layout`]: [`Layout`] (free/fixed parameters, bounds, exponent coordinate).
 //! - [`eval`]: [`Evaluator`] (residuals, Jacobian, sum of squares, RMSE), with SIMD copies of
-//!   its loops chosen at run time ([`SimdLevel`]); pan Jacobian columns are per degree.
+//!   its loops chosen by [`Kernel`] (the kernel vocabulary of `brdf-simd`, re-exported); pan
+//!   Jacobian columns are per degree.
 //! - [`data`]: [`DataSet`], [`synthetic`], [`Filters`], [`FilterReport`], [`Subsampler`].
 //! - [`io`]: Cornell, CSV and MERL readers (formats documented there).
 
@@ -37,7 +38,7 @@ pub use data::{
     DataSet, FilterReport, Filters, MAX_SAMPLES, MAX_SIGMA, Subsampler, synthetic, try_synthetic,
     uniform_hemisphere,
 };
-pub use eval::{Evaluator, Kernel, KernelError, SUM_BLOCK, SimdLevel, SumBelow};
+pub use eval::{Evaluator, Kernel, KernelError, SUM_BLOCK, SumBelow};
 pub use io::{
     Channel, DataError, MerlBrdf, parse_cornell, parse_csv, read_cornell, read_csv, read_merl,
 };

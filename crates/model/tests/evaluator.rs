@@ -2,11 +2,20 @@
 //! agreement with the scalar libm reference, overflow handling.
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, ExponentCoord, Layout, Lobe, LobeKind, SimdLevel, named_params,
+    BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, Layout, Lobe, LobeKind, named_params,
     synthetic,
 };
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+
+/// The compiled copies of the fast loops this CPU runs (every kernel but the scalar reference),
+/// slowest first.
+fn compiled_copies() -> Vec<Kernel> {
+    let mut kernels = Kernel::available();
+    kernels.retain(|&k| k != Kernel::Scalar);
+    kernels.reverse();
+    kernels
+}
 
 fn layouts() -> Vec<Layout> {
     let mut out = Vec::new();
@@ -76,9 +85,9 @@ fn check_jacobian_counted(
     // Every compiled copy of the loops gives the same answer (to rounding) and the same
     // success flag.
     let mut other = vec![0.0; m * p];
-    for level in SimdLevel::available() {
+    for level in compiled_copies() {
         let mut e2 = Evaluator::new(layout);
-        assert!(e2.set_simd_level(level));
+        e2.set_kernel(level).unwrap();
         assert_eq!(e2.jacobian(x, data, &mut other), ok_j, "{level:?} at {x:?}");
         if ok_j && m > 0 {
             // Relative to the column's scale: FMA and separate rounding differ where a
@@ -282,11 +291,11 @@ fn d_to_zero_from_above_is_finite() {
     for coord in [ExponentCoord::Raw, ExponentCoord::Log1p] {
         let l = iso_layout(coord);
         let mut ev = Evaluator::new(&l);
-        for (level, cz) in SimdLevel::available()
+        for (level, cz) in compiled_copies()
             .into_iter()
             .flat_map(|lv| [1e-10, 1e-300, 5e-324].map(|c| (lv, c)))
         {
-            assert!(ev.set_simd_level(level));
+            ev.set_kernel(level).unwrap();
             for n in [0.0, 0.5, 1.0, 2.0, 50.0] {
                 let x = l.encode(&BrdfParams {
                     kd: 0.0,
@@ -348,8 +357,8 @@ fn overflow_gives_inf_not_nan() {
         assert!(!ev.jacobian(&x, &data, &mut jac));
         assert_eq!(ev.sum_squares(&x, &data), f64::INFINITY);
         assert_eq!(ev.rmse(&x, &data), f64::INFINITY);
-        for level in SimdLevel::available() {
-            assert!(ev.set_simd_level(level));
+        for level in compiled_copies() {
+            ev.set_kernel(level).unwrap();
             assert!(!ev.residuals(&x, &data, &mut r));
             assert!(r.iter().all(|v| !v.is_nan()));
             assert!(!ev.jacobian(&x, &data, &mut jac));
@@ -367,7 +376,7 @@ fn evaluator_agrees_with_scalar_libm_reference() {
         .unwrap();
     let mut ev = Evaluator::new(&l);
     let mut r = vec![0.0; data.len()];
-    let levels = SimdLevel::available();
+    let levels = compiled_copies();
     let mut worst = vec![0.0f64; levels.len()];
     let mut compared = 0usize;
     for _ in 0..300 {
@@ -379,7 +388,7 @@ fn evaluator_agrees_with_scalar_libm_reference() {
             .collect();
         let p = l.decode(&x);
         for (k, &level) in levels.iter().enumerate() {
-            assert!(ev.set_simd_level(level));
+            ev.set_kernel(level).unwrap();
             if !ev.residuals(&x, &data, &mut r) {
                 continue;
             }
@@ -411,10 +420,10 @@ fn simd_and_portable_jacobians_agree() {
     let mut ev = Evaluator::new(&l);
     let mut a = vec![0.0; data.len() * l.dim()];
     let mut b = a.clone();
-    ev.set_simd(false);
+    ev.set_kernel(Kernel::Portable).unwrap();
     assert!(ev.jacobian(&x, &data, &mut b));
-    for level in SimdLevel::available() {
-        assert!(ev.set_simd_level(level));
+    for level in compiled_copies() {
+        ev.set_kernel(level).unwrap();
         assert!(ev.jacobian(&x, &data, &mut a));
         for (p, q) in a.iter().zip(&b) {
             assert!((p - q).abs() <= 1e-12 * (1.0 + q.abs()), "{level:?}");

@@ -38,7 +38,12 @@ pub fn run(a: RunArgs) -> Result<()> {
     );
     let kernel = a.kernel.unwrap_or(spec.kernel);
     let (executor, built) = SlsExecutor::new(&spec, kernel).context("building the instances")?;
-    note!("evaluation kernel: {}", executor.provenance().kernel);
+    let provenance = executor.provenance();
+    note!(
+        "evaluation kernel: {}, solver kernel: {}",
+        provenance.kernel,
+        provenance.solver_kernel
+    );
     for (i, b) in spec.instances.iter().zip(&built) {
         let rep = b
             .filter_report

@@ -63,6 +63,7 @@ pub fn trial(a: TrialArgs) -> Result<()> {
         .map_err(|e| input_error(format!("configuration {}: {e}", a.config_id)))?;
     let built = harness::instance::build(instance)
         .with_context(|| format!("building instance `{}`", instance.name))?;
+    bounded_lm::set_kernel(spec.kernel)?;
     let objective = sls::BrdfObjective::with_kernel(
         built.data.clone(),
         built.layout.clone(),

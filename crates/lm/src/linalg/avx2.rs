@@ -9,8 +9,8 @@
 //! in shuffled 128-bit halves. Several columns go through one loop so that their sums form
 //! independent dependency chains: one column's chain of adds alone is latency-bound.
 //!
-//! Every function here requires AVX2: callers check `is_x86_feature_detected!("avx2")` (or
-//! run inside a function that did).
+//! Every function here requires AVX2: callers run them only when the solver's kernel is
+//! `avx2` or `avx512` (`super::dispatch`), or inside a function that did.
 
 use std::arch::x86_64::*;
 

@@ -11,17 +11,11 @@
 //! than eight) go to the AVX2 build's `*_from` functions, which continue from the eight-row
 //! accumulators.
 //!
-//! Every function here requires AVX-512F and AVX2: callers check [`available`] (or run
-//! inside a function that did).
+//! Every function here requires AVX-512F and AVX2: callers run them only when the solver's
+//! kernel is `avx512` (`super::dispatch`), or inside a function that did.
 
 use super::avx2::{self, Survey, max_abs};
 use std::arch::x86_64::*;
-
-/// Whether this CPU runs the functions of this module (and `crate::qr`'s AVX-512 build):
-/// AVX-512F and AVX2, both enabled in each of them.
-pub(crate) fn available() -> bool {
-    std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx2")
-}
 
 /// `acc + p`'s rows in the portable order: the four-lane accumulator `acc` adds the low half
 /// of the eight-row `p`, then its high half.
