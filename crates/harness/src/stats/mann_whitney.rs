@@ -1,6 +1,7 @@
 //! The two-sided Mann-Whitney U test, computed as scipy's `mannwhitneyu(method="auto")` does.
 //!
-//! - **Exact** when there are no ties and one sample has at most [`MW_EXACT_MAX_N`] values:
+//! - **Exact** when there are no ties and one sample has at most [`MW_EXACT_MAX_N`] values
+//!   (and the counts fit in memory and in `u128`, true up to about 100,000 values):
 //!   the number of interleavings with each U is a coefficient of the Gaussian binomial
 //!   `[m + n choose k]_q`, counted in exact integers; the p-value is `2 P(U >= max(U_a, U_b))`.
 //! - **Asymptotic** otherwise: the normal approximation with the tie correction and the
@@ -13,6 +14,10 @@
 
 /// With no ties and a sample of at most this many values the p-value is exact (scipy's rule).
 pub const MW_EXACT_MAX_N: usize = 8;
+
+/// The exact distribution holds `k n + 1` counts; above this many the normal approximation is
+/// used instead (scipy has no such bound; it only matters past a million values).
+const MW_EXACT_MAX_COUNTS: usize = 10_000_000;
 
 /// Two-sided Mann-Whitney U (statistic of `a`, p-value in [0, 1]); `None` for an empty
 /// sample or a NaN value. See the module documentation for the p-value.
@@ -79,10 +84,13 @@ fn normal_sf(u: f64, m: usize, n: usize, tie_term: f64) -> f64 {
     0.5 * libm::erfc(z / std::f64::consts::SQRT_2)
 }
 
-/// Exact `P(U >= u)` for samples of `m` and `n` distinct values; `None` when the counts
-/// overflow `u128` (samples far larger than the exact method is used for).
+/// Exact `P(U >= u)` for samples of `m` and `n` distinct values; `None` when there would be
+/// more than [`MW_EXACT_MAX_COUNTS`] counts or they overflow `u128`.
 fn exact_sf(u: f64, m: usize, n: usize) -> Option<f64> {
     let (k, big) = (m.min(n), m.max(n));
+    if k.saturating_mul(big) > MW_EXACT_MAX_COUNTS {
+        return None;
+    }
     let counts = u_counts(k, big)?;
     let total: u128 = counts.iter().try_fold(0u128, |s, &c| s.checked_add(c))?;
     let from = u.ceil().max(0.0) as usize;
@@ -194,6 +202,20 @@ mod tests {
             last = p;
         }
         assert!(last < 1e-60, "{last:e}");
+    }
+
+    /// Counts that would overflow `u128` (8 values against 300,000: C(300008, 8) > 2^128)
+    /// fall back to the normal approximation instead of failing.
+    #[test]
+    fn exact_counts_that_overflow_fall_back_to_the_normal_tail() {
+        assert!(u_counts(8, 300_000).is_none());
+        let a: Vec<f64> = (0..8).map(|i| f64::from(i) * 1000.0 + 0.5).collect();
+        let b: Vec<f64> = (0..300_000).map(f64::from).collect();
+        let (_, p) = mann_whitney(&a, &b).unwrap();
+        // U of a: sum over i of the 1000 i + 1 values of b below a_i.
+        let u_a = 28_008.0;
+        let u_max = (8.0 * 300_000.0 - u_a).max(u_a);
+        assert_eq!(p, 2.0 * normal_sf(u_max, 8, 300_000, 0.0));
     }
 
     #[test]
