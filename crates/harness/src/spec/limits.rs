@@ -32,3 +32,8 @@ pub const MAX_ERROR_STEPS: usize = 10_000;
 
 /// Trials per configuration drawn in the trace plot.
 pub const MAX_TRACE_TRIALS: usize = 1_000;
+
+/// Characters of a configuration label (an `[[algorithm]]`'s `label` with its swept values).
+/// Specs given to `check` and `run` are held to it; stored specs of existing results are read
+/// without it, so older folders stay readable.
+pub const MAX_LABEL_CHARS: usize = 1_000;

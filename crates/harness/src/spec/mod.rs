@@ -497,7 +497,8 @@ pub struct PlannedTrial {
 }
 
 impl Spec {
-    /// Reads and validates a spec file.
+    /// Reads and validates a spec file, including the limits only new runs are held to
+    /// (label length: [`limits::MAX_LABEL_CHARS`]).
     pub fn from_file(path: &Path) -> Result<Spec, SpecError> {
         let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
             path: path.display().to_string(),
@@ -511,7 +512,14 @@ impl Spec {
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        Spec::parse(&text, &path.display().to_string(), &stem, dir)
+        let origin = path.display().to_string();
+        let spec = Spec::parse(&text, &origin, &stem, dir)?;
+        let cx = validate::Ctx {
+            text: &text,
+            origin: &origin,
+        };
+        validate::label_lengths(&cx, &spec.configurations)?;
+        Ok(spec)
     }
 
     /// The built-in default experiment (relative paths resolve against the current directory).

@@ -9,8 +9,8 @@ use sls::Budget;
 use toml::Spanned;
 
 use super::limits::{
-    MAX_BOOTSTRAP, MAX_ERROR_STEPS, MAX_LOBES, MAX_PLANNED_TRIALS, MAX_SAMPLE_PARAMS, MAX_SAMPLES,
-    MAX_TARGETS, MAX_TRACE_TRIALS,
+    MAX_BOOTSTRAP, MAX_ERROR_STEPS, MAX_LABEL_CHARS, MAX_LOBES, MAX_PLANNED_TRIALS,
+    MAX_SAMPLE_PARAMS, MAX_SAMPLES, MAX_TARGETS, MAX_TRACE_TRIALS,
 };
 use super::raw::{RawBudget, RawInstance, RawModel, RawSynthetic, line_of};
 use super::{DataFormat, InstanceSpec, ModelSpec, PlotSpec, Source, SpecError, StatsSpec};
@@ -505,6 +505,26 @@ pub(super) fn plan_size(
                 "the plan has {trials} trials x {instances} instance(s) x {configurations} configuration(s) = {n} trials; at most {MAX_PLANNED_TRIALS}"
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Every configuration label within [`MAX_LABEL_CHARS`] characters.
+pub(super) fn label_lengths(
+    cx: &Ctx<'_>,
+    configurations: &[super::Configuration],
+) -> Result<(), SpecError> {
+    for c in configurations {
+        let chars = c.label.chars().count();
+        if chars > MAX_LABEL_CHARS {
+            let start: String = c.label.chars().take(40).collect();
+            return Err(cx.invalid(
+                None,
+                format!(
+                    "algorithm `{start}...`: `label` (with its swept values) has {chars} characters; at most {MAX_LABEL_CHARS}"
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -15,8 +15,6 @@
 //! Mann-Whitney with censored runs coded `+inf`, the test uses each run's own censoring time,
 //! so it stays valid when cutoffs differ (interrupted or evaluation-limited runs).
 
-use statrs::distribution::{ChiSquared, ContinuousCDF};
-
 use super::Outcome;
 
 /// The result of a log-rank test.
@@ -36,6 +34,15 @@ pub struct LogRank {
     pub expected_b: f64,
     /// `(O_a / E_a) / (O_b / E_b)`; infinite when `b` never succeeds, 0 when `a` never does.
     pub hazard_ratio: f64,
+}
+
+/// The chi-square(1) survival function `P(X > x) = erfc(sqrt(x / 2))`, clamped to [0, 1]:
+/// computed as a tail, it keeps its relative accuracy down to about 1e-300.
+pub fn chi2_1_sf(x: f64) -> f64 {
+    if x <= 0.0 {
+        return 1.0;
+    }
+    libm::erfc((x / 2.0).sqrt()).clamp(0.0, 1.0)
 }
 
 /// One run as (time, reached the target).
@@ -86,7 +93,7 @@ pub fn log_rank(a: &[Outcome], b: &[Outcome]) -> Option<LogRank> {
         return None;
     }
     let chi2 = (oa - e_a).powi(2) / var;
-    let p = ChiSquared::new(1.0).ok()?.sf(chi2);
+    let p = chi2_1_sf(chi2);
     let (ob, e_b) = (total_d - oa, total_d - e_a);
     let hazard_ratio = (oa / e_a) / (ob / e_b);
     Some(LogRank {
@@ -171,5 +178,43 @@ mod tests {
         let r = log_rank(&x, &x).unwrap();
         assert!(r.chi2.abs() < 1e-12 && (r.p - 1.0).abs() < 1e-12);
         assert!((r.hazard_ratio - 1.0).abs() < 1e-12);
+    }
+
+    /// scipy 1.17.1's `scipy.stats.chi2.sf(x, 1)`: the tail keeps its digits where
+    /// `1 - cdf` would be 0 (from x of about 75).
+    #[test]
+    fn chi_square_tail_agrees_with_scipy() {
+        let cases = [
+            (0.5, 0.47950012218695337),
+            (3.84, 0.05004352124870519),
+            (16.79, 4.1752751389197874e-05),
+            (100.0, 1.5239706048320995e-23),
+            (500.0, 9.505397766554137e-111),
+            (1300.0, 1.1303728441493301e-284),
+        ];
+        for (x, want) in cases {
+            let got = chi2_1_sf(x);
+            assert!(
+                (got - want).abs() <= 1e-12 * want,
+                "x = {x}: {got:e} vs {want:e}"
+            );
+        }
+        assert_eq!(chi2_1_sf(0.0), 1.0);
+        assert_eq!(chi2_1_sf(1e4), 0.0);
+    }
+
+    /// Samples that separate more and more: the p-value stays in (0, 1] and falls.
+    #[test]
+    fn tiny_p_values_stay_positive_and_fall_with_separation() {
+        let a = runs(&(1..=200).map(f64::from).collect::<Vec<_>>(), &[]);
+        let mut last = 1.0;
+        for shift in (0..=200).step_by(10) {
+            let later: Vec<f64> = (1..=200).map(|t| f64::from(t + shift)).collect();
+            let r = log_rank(&a, &runs(&later, &[])).unwrap();
+            assert!(r.p > 0.0 && r.p <= 1.0, "shift {shift}: p = {:e}", r.p);
+            assert!(r.p <= last, "shift {shift}: {last:e} -> {:e}", r.p);
+            last = r.p;
+        }
+        assert!(last < 1e-30, "{last:e}");
     }
 }

@@ -17,7 +17,8 @@
 //!   reported. COCO's simulated restarts (draw runs with replacement until a success, summing
 //!   their times) give the 10/50/90 percentiles of the restarted run time itself.
 //! - Pairwise comparisons per instance and target: Mann-Whitney U (two-sided, censored runs
-//!   coded as +inf; statrs) and two-sample Kolmogorov-Smirnov (statrs) with Holm's correction
+//!   coded as +inf; [`mann_whitney`]) and two-sample Kolmogorov-Smirnov ([`kolmogorov_smirnov`];
+//!   both as scipy computes them, with tails that keep tiny p-values) with Holm's correction
 //!   over all pairs of the (instance, target, measure) family, and probabilistic domination
 //!   (one RTD at or above the other everywhere and strictly above somewhere). The log-rank
 //!   test (censored runs at their own censoring times) with its hazard ratio estimate is
@@ -28,13 +29,18 @@ use statrs::statistics::{Data, Distribution, Max, Min, OrderStatistics};
 
 mod bootstrap;
 mod hypothesis;
+mod infinite;
+mod ks;
 mod logrank;
+mod mann_whitney;
 mod rtd;
 mod tables;
 
 pub use bootstrap::{bootstrap_ert, simulated_restarts};
-pub use hypothesis::{holm, kolmogorov_smirnov, mann_whitney};
+pub use hypothesis::holm;
+pub use ks::{KS_EXACT_MAX_N, kolmogorov_sf, kolmogorov_smirnov, ks_statistic};
 pub use logrank::{LogRank, log_rank};
+pub use mann_whitney::{MW_EXACT_MAX_N, mann_whitney};
 pub use rtd::{
     Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier, outcome,
     quantile,
@@ -153,7 +159,11 @@ pub struct PairTest {
     #[serde(default)]
     pub lr_p_holm: Option<f64>,
     /// Hazard ratio estimate `(O_a/E_a)/(O_b/E_b)`: above 1, `a` reaches the target sooner.
-    #[serde(default)]
+    /// Infinite when only `a` ever reached the target (0 when only `b` did); `None` when there
+    /// is no log-rank test. The infinity is written as the string `"inf"` in `stats.json`
+    /// (JSON has no infinity; `null` means no test) and as `inf` in `tests.csv` (where no test
+    /// is an empty field).
+    #[serde(default, with = "infinite")]
     pub lr_hazard_ratio: Option<f64>,
 }
 
@@ -488,22 +498,6 @@ mod tests {
     }
 
     #[test]
-    fn ks_identical_samples_terminate_with_p_one() {
-        // All censored on both sides (the DS-without-restart case): D = 0.
-        let inf = vec![f64::INFINITY; 200];
-        assert_eq!(kolmogorov_smirnov(&inf, &inf), Some((0.0, 1.0)));
-        let a: Vec<f64> = (0..150).map(f64::from).collect();
-        assert_eq!(kolmogorov_smirnov(&a, &a), Some((0.0, 1.0)));
-        assert_eq!(kolmogorov_smirnov(&a, &[]), None);
-        // Disjoint samples: D = 1 and a tiny p-value.
-        let b: Vec<f64> = (0..150).map(|x| f64::from(x) + 1000.0).collect();
-        let (d, p) = kolmogorov_smirnov(&a, &b).unwrap();
-        assert!((d - 1.0).abs() < 1e-9, "{d}");
-        assert!(p < 1e-10, "{p}");
-        assert_eq!(hypothesis::ks_statistic(&[1.0, 2.0], &[2.0, 3.0]), 0.5);
-    }
-
-    #[test]
     fn ert_hand_computed() {
         // 3 successes at 1, 2, 3 s; 2 runs censored at the 10 s cutoff:
         // ERT = (1 + 2 + 3 + 2 * 10) / 3 = 26/3 = mean 2 + (2/5)/(3/5) * 10.
@@ -540,28 +534,7 @@ mod tests {
     }
 
     #[test]
-    fn mann_whitney_textbook() {
-        // SciPy's documented example (Conover): U = 17, exact two-sided p = 1/9.
-        let male = [19.0, 22.0, 16.0, 29.0, 24.0];
-        let female = [20.0, 11.0, 17.0, 12.0];
-        let (u, p) = mann_whitney(&male, &female).unwrap();
-        assert_eq!(u, 17.0);
-        assert!((p - 0.1111111111).abs() < 1e-6, "{p}");
-        // Censored runs as +inf: all of b is slower.
-        let a = [1.0, 2.0, 3.0];
-        let b = [4.0, f64::INFINITY, f64::INFINITY];
-        let (u, _) = mann_whitney(&a, &b).unwrap();
-        assert_eq!(u, 0.0);
-    }
-
-    #[test]
-    fn ks_and_holm() {
-        let a = [1.0, 2.0, 3.0, 4.0];
-        let b = [5.0, 6.0, 7.0, 8.0];
-        let (d, p) = kolmogorov_smirnov(&a, &b).unwrap();
-        assert_eq!(d, 1.0);
-        // Exact: only 2 of C(8,4) = 70 orderings give D = 1.
-        assert!((p - 2.0 / 70.0).abs() < 1e-9, "{p}");
+    fn holm_hand_computed() {
         let adj = holm(&[0.01, 0.04, 0.03]);
         let want = [0.03, 0.06, 0.06];
         for (x, y) in adj.iter().zip(want) {
@@ -578,5 +551,68 @@ mod tests {
         let x = kaplan_meier(&[succ(1.0), succ(10.0)]);
         let y = kaplan_meier(&[succ(2.0), succ(3.0)]);
         assert_eq!(domination(&x, &y), (false, false));
+    }
+
+    fn pair_test(hazard_ratio: Option<f64>) -> PairTest {
+        PairTest {
+            instance: "i".into(),
+            target: 0.1,
+            measure: Measure::CpuSeconds,
+            a: "A".into(),
+            b: "B".into(),
+            mw_u: Some(1.0),
+            mw_p: Some(0.5),
+            mw_p_holm: Some(0.5),
+            ks_d: Some(0.25),
+            ks_p: Some(0.75),
+            ks_p_holm: Some(0.75),
+            a_dominates: true,
+            b_dominates: false,
+            lr_chi2: hazard_ratio.map(|_| 4.0),
+            lr_p: hazard_ratio.map(|_| 0.05),
+            lr_p_holm: hazard_ratio.map(|_| 0.05),
+            lr_hazard_ratio: hazard_ratio,
+        }
+    }
+
+    /// An infinite hazard ratio (only `a` reached the target) must not read like "no test":
+    /// `"inf"` in stats.json and `inf` in tests.csv, where no test is `null` and empty.
+    #[test]
+    fn infinite_hazard_ratio_differs_from_no_test_in_json_and_csv() {
+        let cases = [
+            (Some(f64::INFINITY), serde_json::json!("inf"), "inf"),
+            (Some(0.0), serde_json::json!(0.0), "0"),
+            (Some(2.5), serde_json::json!(2.5), "2.5"),
+            (None, serde_json::Value::Null, ""),
+        ];
+        for (hr, json, csv) in cases {
+            let t = pair_test(hr);
+            let value = serde_json::to_value(&t).unwrap();
+            assert_eq!(value["lr_hazard_ratio"], json, "{hr:?}");
+            let back: PairTest = serde_json::from_str(&serde_json::to_string(&t).unwrap()).unwrap();
+            assert_eq!(back, t);
+            let report = StatsReport {
+                bootstrap: 0,
+                configs: vec![],
+                tests: vec![t],
+                finals: vec![],
+            };
+            let row = tests_csv(&report);
+            let last = row.lines().nth(1).unwrap().rsplit(',').next().unwrap();
+            assert_eq!(last, csv, "{hr:?}");
+        }
+        // Files written before: `null` and a missing field both read as no ratio.
+        let mut old = serde_json::to_value(pair_test(Some(1.0))).unwrap();
+        old["lr_hazard_ratio"] = serde_json::Value::Null;
+        let t: PairTest = serde_json::from_value(old.clone()).unwrap();
+        assert_eq!(t.lr_hazard_ratio, None);
+        old.as_object_mut().unwrap().remove("lr_hazard_ratio");
+        let t: PairTest = serde_json::from_value(old.clone()).unwrap();
+        assert_eq!(t.lr_hazard_ratio, None);
+        old["lr_hazard_ratio"] = serde_json::json!("infinite");
+        let e = serde_json::from_value::<PairTest>(old)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("\"inf\""), "{e}");
     }
 }

@@ -2,11 +2,13 @@
 
 use super::{Measure, PairTest, StatsReport};
 
-/// An optional statistic: empty when there is none (no test was possible).
+/// An optional statistic: empty when there is none (no test was possible); an infinite one
+/// is `inf`.
 fn opt_none(v: Option<f64>) -> String {
     v.map_or_else(String::new, |x| format!("{x}"))
 }
 
+/// An optional time: `inf` when there is none (the target was not reached).
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(|| "inf".to_string(), |x| format!("{x}"))
 }
@@ -62,18 +64,18 @@ pub fn tests_csv(report: &StatsReport) -> String {
             t.measure.short(),
             csv_field(&t.a),
             csv_field(&t.b),
-            opt(t.mw_u),
-            opt(t.mw_p),
-            opt(t.mw_p_holm),
-            opt(t.ks_d),
-            opt(t.ks_p),
-            opt(t.ks_p_holm),
+            opt_none(t.mw_u),
+            opt_none(t.mw_p),
+            opt_none(t.mw_p_holm),
+            opt_none(t.ks_d),
+            opt_none(t.ks_p),
+            opt_none(t.ks_p_holm),
             t.a_dominates,
             t.b_dominates,
             opt_none(t.lr_chi2),
             opt_none(t.lr_p),
             opt_none(t.lr_p_holm),
-            opt(t.lr_hazard_ratio)
+            opt_none(t.lr_hazard_ratio)
         ));
     }
     s
@@ -112,17 +114,17 @@ pub fn table(report: &StatsReport) -> String {
     let width = report
         .configs
         .iter()
-        .map(|c| c.config.len())
+        .map(|c| c.config.chars().count())
         .max()
         .unwrap_or(6)
         .max(13);
     for c in &report.configs {
         if last != Some((c.instance.as_str(), c.target)) {
             out.push_str(&format!(
-                "\n{} - target RMSE {}\n{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
+                "\n{} - target RMSE {}\n{}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
                 c.instance,
                 c.target,
-                "configuration",
+                pad_right("configuration", width),
                 "success",
                 "q25 s",
                 "median s",
@@ -140,8 +142,8 @@ pub fn table(report: &StatsReport) -> String {
             _ => "-".into(),
         };
         out.push_str(&format!(
-            "{:<width$}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
-            c.config,
+            "{}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
+            pad_right(&c.config, width),
             format!("{}/{}", m.successes, m.trials),
             fmt_num(m.quantiles[1]),
             fmt_num(m.quantiles[2]),
@@ -196,15 +198,23 @@ fn finals_table(report: &StatsReport, width: usize) -> String {
     for q in &report.finals {
         if last != Some(q.instance.as_str()) {
             out.push_str(&format!(
-                "\n{} - final RMSE per trial\n{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
-                q.instance, "configuration", "trials", "mean", "median", "min", "max", "median end s", "finished"
+                "\n{} - final RMSE per trial\n{}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+                q.instance,
+                pad_right("configuration", width),
+                "trials",
+                "mean",
+                "median",
+                "min",
+                "max",
+                "median end s",
+                "finished"
             ));
             last = Some(q.instance.as_str());
         }
         let r = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |x| format!("{x:.6}"));
         out.push_str(&format!(
-            "{:<width$}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
-            q.config,
+            "{}  {:>7}  {:>9} {:>9} {:>9} {:>9}  {:>11} {:>9}\n",
+            pad_right(&q.config, width),
             q.trials,
             r(q.rmse_mean),
             r(q.rmse_median),
@@ -217,13 +227,84 @@ fn finals_table(report: &StatsReport, width: usize) -> String {
     out
 }
 
+/// `s` left-aligned in `width` characters. Unlike `format!("{s:<width$}")`, which panics for
+/// widths from 65,536 on, this takes any width (labels of older results are not limited).
+fn pad_right(s: &str, width: usize) -> String {
+    let fill = width.saturating_sub(s.chars().count());
+    let mut out = String::with_capacity(s.len() + fill);
+    out.push_str(s);
+    out.extend(std::iter::repeat_n(' ', fill));
+    out
+}
+
 fn fmt_p(p: Option<f64>) -> String {
     match p {
         None => "-".into(),
-        // statrs computes the asymptotic Mann-Whitney p as 1 - Phi(z), which is exactly 0 once
-        // z > ~8.3: all that is known then is p < ~1e-15.
-        Some(0.0) => "<1e-15".into(),
+        // The tests' tails underflow only below about 1e-300.
+        Some(0.0) => "<1e-300".into(),
         Some(p) if p < 1e-4 => format!("{p:.1e}"),
         Some(p) => format!("{p:.4}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{ConfigStats, FinalQuality, summarise};
+    use super::*;
+
+    fn report_with_labels(labels: &[String]) -> StatsReport {
+        let summary = summarise(&[], 0, 0);
+        StatsReport {
+            bootstrap: 0,
+            configs: labels
+                .iter()
+                .map(|l| ConfigStats {
+                    instance: "i".into(),
+                    config: l.clone(),
+                    target: 0.1,
+                    cpu: summary.clone(),
+                    evaluations: summary.clone(),
+                })
+                .collect(),
+            tests: vec![],
+            finals: labels
+                .iter()
+                .map(|l| FinalQuality {
+                    instance: "i".into(),
+                    config: l.clone(),
+                    trials: 0,
+                    rmse_mean: None,
+                    rmse_median: None,
+                    rmse_min: None,
+                    rmse_max: None,
+                    end_cpu_median: None,
+                    end_cpu_max: None,
+                    finished: 0,
+                })
+                .collect(),
+        }
+    }
+
+    /// `format!("{:<width$}")` panics from width 65,536 on; results written before labels
+    /// were limited may hold such labels.
+    #[test]
+    fn table_takes_labels_of_any_length() {
+        let long = "L".repeat(70_000);
+        let t = table(&report_with_labels(&[long.clone(), "AED".into()]));
+        let rows: Vec<&str> = t.lines().filter(|l| l.starts_with("AED ")).collect();
+        assert_eq!(rows.len(), 2, "{}", &t[..200]);
+        // Columns stay aligned: the short label is padded to the long one's width.
+        for row in rows {
+            assert_eq!(row[70_000..].chars().next(), Some(' '));
+            assert!(row[3..70_000].chars().all(|c| c == ' '));
+        }
+        assert_eq!(t.matches(&long).count(), 2);
+    }
+
+    #[test]
+    fn padding_counts_characters() {
+        assert_eq!(pad_right("AED", 5), "AED  ");
+        assert_eq!(pad_right("φ=1", 4), "φ=1 ");
+        assert_eq!(pad_right("toolong", 3), "toolong");
     }
 }

@@ -1,0 +1,85 @@
+//! Configuration labels of any length: new specs are held to `MAX_LABEL_CHARS`, and results
+//! written before the limit (labels of 65,536 characters and more) stay readable by `stats`.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use harness::spec::limits::MAX_LABEL_CHARS;
+
+fn brdf_sls(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+        .args(args)
+        .current_dir(cwd)
+        .env("CI", "true")
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Two trials of AED labelled `label` and of RPLS on the tiny instance.
+fn spec_text(label: &str) -> String {
+    common::TINY
+        .replace("trials = 4", "trials = 2")
+        .replace("label = \"AED\"", &format!("label = \"{label}\""))
+        .replace("[algorithm.sweep]\nphi = [1.2, 1.4]\n", "")
+}
+
+#[test]
+fn check_refuses_a_label_over_the_limit_naming_key_and_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let at_limit = "L".repeat(MAX_LABEL_CHARS);
+    std::fs::write(dir.path().join("ok.toml"), spec_text(&at_limit)).unwrap();
+    let o = brdf_sls(&["check", "ok.toml"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    std::fs::write(dir.path().join("long.toml"), spec_text(&"L".repeat(65_536))).unwrap();
+    let o = brdf_sls(&["check", "long.toml"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("long.toml") && t.contains("`label`") && t.contains("65536 characters"),
+        "{t}"
+    );
+    assert!(t.contains(&format!("at most {MAX_LABEL_CHARS}")), "{t}");
+    assert!(
+        t.len() < 1_000,
+        "the error repeats the label: {} bytes",
+        t.len()
+    );
+}
+
+/// A folder run with a short label, then given a 70,000-character label throughout (as a
+/// run before the limit would have written it): `stats` reads it and writes its table.
+#[test]
+fn stats_reads_results_with_a_label_longer_than_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.toml"), spec_text("SHORTLABEL")).unwrap();
+    let o = brdf_sls(
+        &["run", "t.toml", "--threads", "2", "--no-plots"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let results = dir.path().join("runs/t/trials.jsonl");
+    let long = "L".repeat(70_000);
+    let stored = std::fs::read_to_string(&results).unwrap();
+    assert!(stored.contains("SHORTLABEL"));
+    std::fs::write(&results, stored.replace("SHORTLABEL", &long)).unwrap();
+    let o = brdf_sls(&["stats", "runs/t"], dir.path());
+    assert!(
+        o.status.success(),
+        "{}",
+        &text(&o)[..text(&o).len().min(2_000)]
+    );
+    let table = std::fs::read_to_string(dir.path().join("runs/t/table.txt")).unwrap();
+    assert!(table.contains(&long) && table.contains("RPLS"));
+    let tests = std::fs::read_to_string(dir.path().join("runs/t/tests.csv")).unwrap();
+    assert!(tests.contains(&long));
+}
