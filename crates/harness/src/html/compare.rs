@@ -4,7 +4,6 @@
 use brdf_graphics::chart::{Chart, Style, color};
 
 use super::figures::figure;
-use super::tables::ert_text;
 use super::{PageError, anchor, date, document, escape, para, section, table};
 use crate::compare::text::{change_text, p_text};
 use crate::compare::{Comparison, Entry, MeasureRow, Row, Verdict, budget_text};
@@ -118,68 +117,82 @@ fn verdict_cell(v: &Verdict) -> String {
     format!("<span class=\"{class}\">{}</span>", escape(&v.text()))
 }
 
+/// Median and ERT of A and B with their changes, and the log-rank test, of one measure.
 fn measure_cells(m: Option<&MeasureRow>) -> Vec<String> {
     let Some(m) = m else {
-        return vec!["".into(); 5];
+        return vec![String::new(); 3];
     };
     vec![
         format!(
-            "{} &rarr; {}",
+            "{} &rarr; {} ({})",
             fmt_num(m.a.quantiles[2]),
-            fmt_num(m.b.quantiles[2])
+            fmt_num(m.b.quantiles[2]),
+            change_text(m.median_change)
         ),
-        change_text(m.median_change),
-        format!("{} &rarr; {}", ert_text(&m.a), ert_text(&m.b)),
-        change_text(m.ert_change),
-        format!("{} / HR {}", p_text(m), fmt_num(m.hazard_ratio)),
+        format!(
+            "{} &rarr; {} ({})",
+            fmt_num(m.a.ert),
+            fmt_num(m.b.ert),
+            change_text(m.ert_change)
+        ),
+        format!("{}; HR {}", p_text(m), fmt_num(m.hazard_ratio)),
     ]
 }
 
+/// The other measure in one cell: changes of median and ERT, and the log-rank test.
+fn other_cell(m: Option<&MeasureRow>) -> String {
+    m.map_or_else(String::new, |m| {
+        format!(
+            "median {}, ERT {}; p {}",
+            change_text(m.median_change),
+            change_text(m.ert_change),
+            p_text(m)
+        )
+    })
+}
+
 fn row_cells(r: &Row) -> Vec<String> {
+    let success = r.measures.first().map_or_else(String::new, |m| {
+        format!(
+            "{}/{} &rarr; {}/{}",
+            m.a.successes, m.a.trials, m.b.successes, m.b.trials
+        )
+    });
     let mut cells = vec![
         escape(&r.instance),
         escape(&r.config),
         r.target.map_or_else(|| "-".into(), |t| t.to_string()),
         verdict_cell(&r.verdict),
-        r.measures
-            .first()
-            .map(|m| {
-                format!(
-                    "{}/{} &rarr; {}/{}",
-                    m.a.successes, m.a.trials, m.b.successes, m.b.trials
-                )
-            })
-            .unwrap_or_default(),
+        success,
     ];
     cells.extend(measure_cells(r.measures.first()));
-    cells.extend(measure_cells(r.measures.get(1)));
+    cells.push(other_cell(r.measures.get(1)));
     cells
 }
 
 fn verdicts(c: &Comparison) -> String {
-    let labels: Vec<&str> = std::iter::once(c.options.measure)
-        .chain(Measure::ALL.into_iter().filter(|m| *m != c.options.measure))
-        .map(|m| m.label())
-        .collect();
-    let mut head: Vec<String> = [
-        "instance",
-        "configuration",
-        "target",
-        "verdict",
-        "success A &rarr; B",
-    ]
-    .map(String::from)
-    .to_vec();
-    for l in &labels {
-        head.push(format!("median {l} A &rarr; B"));
-        head.push("change".into());
-        head.push(format!("ERT {l} [10%, 90%] A &rarr; B"));
-        head.push("change".into());
-        head.push(format!("log-rank p (Holm) / hazard ratio A/B, {l}"));
-    }
+    let main = c.options.measure.label();
+    let other = Measure::ALL
+        .into_iter()
+        .find(|m| *m != c.options.measure)
+        .map_or("", |m| m.label());
+    let head = [
+        "instance".to_string(),
+        "configuration".into(),
+        "target".into(),
+        "verdict".into(),
+        "success A &rarr; B".into(),
+        format!("median {main} A &rarr; B (change)"),
+        format!("ERT {main} A &rarr; B (change)"),
+        format!("log-rank p (Holm), hazard ratio A/B, {main}"),
+        format!("{other}: changes, log-rank p (Holm)"),
+    ];
     let head: Vec<&str> = head.iter().map(String::as_str).collect();
     let rows: Vec<Vec<String>> = c.rows.iter().map(row_cells).collect();
-    table("verdicts", &head, &rows)
+    format!(
+        "<div class=\"wide\">\n{}</div>\n",
+        table("verdicts", &head, &rows)
+    )
 }
 
 /// One chart per comparable (instance, target) and measure: each configuration's RTD in A
@@ -203,7 +216,8 @@ fn overlays(entries: (&[Entry], &[Entry]), c: &Comparison) -> Result<String, Pag
             .filter(|r| r.instance == inst && r.target == Some(t) && !r.measures.is_empty())
             .map(|r| r.config.as_str())
             .collect();
-        for m in Measure::ALL {
+        let others = Measure::ALL.into_iter().filter(|m| *m != c.options.measure);
+        for m in std::iter::once(c.options.measure).chain(others) {
             let chart = overlay_chart(entries, inst, &configs, t, m);
             let id = anchor(&["rtd", inst, m.short(), &t.to_string()]);
             s.push_str(&figure(&chart, &id)?);

@@ -5,7 +5,8 @@ use brdf_graphics::files::svg_text;
 
 use super::{PageError, escape};
 
-/// A `<figure>` holding `chart` as inline SVG, with its title as the caption.
+/// A `<figure>` holding `chart` as inline SVG, captioned with its title and x axis (an RTD
+/// in CPU seconds and one in sample-evaluations share a title).
 pub fn figure(chart: &Chart, id: &str) -> Result<String, PageError> {
     let svg = svg_text(chart, SIZE).map_err(|message| PageError::Chart {
         title: chart.title.clone(),
@@ -21,6 +22,6 @@ pub fn figure(chart: &Chart, id: &str) -> Result<String, PageError> {
         "<figure class=\"chart\" id=\"{}\">\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
         escape(id),
         svg.trim_end(),
-        escape(&chart.title)
+        escape(&format!("{}; x axis: {}", chart.title, chart.x_label))
     ))
 }

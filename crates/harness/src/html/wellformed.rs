@@ -16,6 +16,9 @@ pub fn check(html: &str) -> Result<(), String> {
             i = at + skip;
             continue;
         }
+        if !rest[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '/') {
+            return Err(format!("a bare `<` at byte {at}"));
+        }
         let end = rest
             .find('>')
             .ok_or_else(|| format!("unterminated tag at byte {at}"))?;
@@ -39,9 +42,6 @@ pub fn check(html: &str) -> Result<(), String> {
             .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
             .collect::<String>()
             .to_ascii_lowercase();
-        if name.is_empty() {
-            return Err(format!("a bare `<` at byte {at}"));
-        }
         if tag.ends_with('/') || VOID.contains(&name.as_str()) {
             continue;
         }
