@@ -87,7 +87,11 @@ fn verdicts(c: &Comparison) -> Vec<Verdict> {
 #[test]
 fn a_clearly_slower_b_is_slower_and_the_reverse_faster() {
     let (fast, slow) = (entry(1), entry(4));
-    let c = compare(&[fast.clone()], &[slow.clone()], Options::default());
+    let c = compare(
+        std::slice::from_ref(&fast),
+        std::slice::from_ref(&slow),
+        Options::default(),
+    );
     assert_eq!(verdicts(&c), vec![Verdict::Slower]);
     assert_eq!(c.slower(), 1);
     let m = &c.rows[0].measures[0];
