@@ -53,27 +53,32 @@ pub fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String
 
 /// Writes `figure` at `size` pixels to the SVG file `path`, atomically.
 pub fn write_svg(figure: &impl Figure, size: (u32, u32), path: &Path) -> Result<(), PlotError> {
-    register_fonts();
-    let draw_err = |message: String| PlotError::Draw {
+    let text = svg_text(figure, size).map_err(|message| PlotError::Draw {
         path: path.to_path_buf(),
         message,
-    };
-    let mut text = String::new();
-    {
-        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-        figure.draw_on(&root).map_err(draw_err)?;
-        root.present().map_err(|e| draw_err(e.to_string()))?;
-    }
-    // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face first (most
-    // systems have it), any sans-serif otherwise.
-    let text = text.replace(
-        "font-family=\"sans-serif\"",
-        "font-family=\"DejaVu Sans, sans-serif\"",
-    );
+    })?;
     write_atomic(path, text.as_bytes()).map_err(|source| PlotError::Io {
         path: path.to_path_buf(),
         source,
     })
+}
+
+/// The SVG document of `figure` at `size` pixels (for files, or inlined in an HTML page); the
+/// error is plotters' message.
+pub fn svg_text(figure: &impl Figure, size: (u32, u32)) -> Result<String, String> {
+    register_fonts();
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        figure.draw_on(&root)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face first (most
+    // systems have it), any sans-serif otherwise.
+    Ok(text.replace(
+        "font-family=\"sans-serif\"",
+        "font-family=\"DejaVu Sans, sans-serif\"",
+    ))
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then

@@ -25,6 +25,11 @@
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 //! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
+//! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
+//!   comparisons.
+//! - [`html`]: self-contained HTML pages: the report of results folders and a comparison.
+//! - [`compare`]: before and after: matched results of two folders judged faster, slower, not
+//!   significantly different or not comparable (and why).
 
 /// Where `run` writes when no `--out` is given: `runs/<spec file stem>/`. The repository's
 /// committed reference results live apart, in `results/`, so a user's first run never collides
@@ -42,9 +47,12 @@ pub const PROGRAM_VERSION: &str = concat!(
 );
 
 pub mod best_known;
+pub mod compare;
 pub mod export;
 pub mod figures;
 pub mod fit;
+pub mod folder;
+pub mod html;
 pub mod instance;
 pub mod machine;
 pub mod merge;

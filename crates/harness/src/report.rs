@@ -218,14 +218,47 @@ pub fn draw_plots(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     let mut files = Vec::new();
-    let formats = &spec.plots.formats;
-    let wants = |k: PlotKind| spec.plots.draw.contains(&k);
+    for c in charts(spec, groups, &spec.plots.draw) {
+        files.extend(plot::draw(
+            &c.chart,
+            &dir.join(&c.stem),
+            &spec.plots.formats,
+        )?);
+    }
+    Ok(files)
+}
+
+/// One chart of an experiment and the file stem it is drawn to.
+#[derive(Clone, Debug)]
+pub struct NamedChart {
+    /// The instance it shows.
+    pub instance: String,
+    /// Its kind.
+    pub kind: PlotKind,
+    /// File name without extension: `<instance>-<kind>[-<measure>][-q<target>]`.
+    pub stem: String,
+    /// The chart.
+    pub chart: plot::Chart,
+}
+
+/// The charts of the given kinds for every instance with results, in the order of the plots
+/// directory's listing by instance: RTDs per target, sweeps, trace, scatter, error-time, ECDF.
+pub fn charts(spec: &Spec, groups: &[Group<'_>], kinds: &[PlotKind]) -> Vec<NamedChart> {
+    let mut out = Vec::new();
+    let wants = |k: PlotKind| kinds.contains(&k);
     for inst in &spec.instances {
         let gs: Vec<&Group> = groups.iter().filter(|g| g.instance == inst.name).collect();
         if gs.is_empty() {
             continue;
         }
-        let base = |kind: &str| dir.join(format!("{}-{kind}", slug(&inst.name)));
+        let mut push = |kind: PlotKind, name: String, chart: plot::Chart| {
+            out.push(NamedChart {
+                instance: inst.name.clone(),
+                kind,
+                stem: format!("{}-{name}", slug(&inst.name)),
+                chart,
+            });
+        };
         for &t in &inst.targets {
             if wants(PlotKind::Rtd) {
                 let c = figures::rtd_chart(
@@ -235,11 +268,11 @@ pub fn draw_plots(
                     Measure::CpuSeconds,
                     spec.budget.cpu_seconds,
                 );
-                files.extend(plot::draw(
-                    &c,
-                    &base(&format!("rtd-cpu-q{}", inst.target_label(t))),
-                    formats,
-                )?);
+                push(
+                    PlotKind::Rtd,
+                    format!("rtd-cpu-q{}", inst.target_label(t)),
+                    c,
+                );
             }
             if wants(PlotKind::RtdEvaluations) {
                 let c = figures::rtd_chart(
@@ -249,51 +282,50 @@ pub fn draw_plots(
                     Measure::Evaluations,
                     spec.budget.sample_evaluations.map(|e| e as f64),
                 );
-                files.extend(plot::draw(
-                    &c,
-                    &base(&format!("rtd-evals-q{}", inst.target_label(t))),
-                    formats,
-                )?);
+                let name = format!("rtd-evals-q{}", inst.target_label(t));
+                push(PlotKind::RtdEvaluations, name, c);
             }
         }
         let t0 = inst.run_target();
         if wants(PlotKind::Sweep) {
-            files.extend(sweep_plots(spec, &inst.name, &gs, t0, dir)?);
+            for (name, c) in sweep_charts(spec, &inst.name, &gs, t0) {
+                push(PlotKind::Sweep, name, c);
+            }
         }
         if wants(PlotKind::Trace) {
             let c = figures::trace_chart(&inst.name, &gs, spec.plots.trace_trials, &inst.targets);
-            files.extend(plot::draw(&c, &base("trace"), formats)?);
+            push(PlotKind::Trace, "trace".into(), c);
         }
         if wants(PlotKind::Scatter) {
             let c = figures::scatter_chart(&inst.name, &gs, t0);
-            files.extend(plot::draw(&c, &base("scatter"), formats)?);
+            push(PlotKind::Scatter, "scatter".into(), c);
         }
         if wants(PlotKind::ErrorTime) || wants(PlotKind::Ecdf) {
             let (lo, hi) = error_range(spec, &gs, t0);
             let grid = figures::target_grid(lo, hi, spec.plots.error_steps);
             if wants(PlotKind::ErrorTime) {
                 let c = figures::error_time_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
-                files.extend(plot::draw(&c, &base("error-time"), formats)?);
+                push(PlotKind::ErrorTime, "error-time".into(), c);
             }
             if wants(PlotKind::Ecdf) {
                 let c = figures::ecdf_targets_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
-                files.extend(plot::draw(&c, &base("ecdf-targets"), formats)?);
+                push(PlotKind::Ecdf, "ecdf-targets".into(), c);
             }
         }
     }
-    Ok(files)
+    out
 }
 
 type SweepRow = (f64, Option<f64>, Option<f64>, Option<f64>, Option<f64>);
 
-fn sweep_plots(
+/// The sweep charts of one instance as (name without the instance, chart).
+fn sweep_charts(
     spec: &Spec,
     instance: &str,
     groups: &[&Group<'_>],
     target: f64,
-    dir: &Path,
-) -> Result<Vec<PathBuf>, PlotError> {
-    let mut files = Vec::new();
+) -> Vec<(String, plot::Chart)> {
+    let mut out = Vec::new();
     let mut algos: Vec<&str> = Vec::new();
     for c in &spec.configurations {
         if !c.swept.is_empty() && !algos.contains(&c.algorithm_label.as_str()) {
@@ -338,15 +370,9 @@ fn sweep_plots(
         let x_log = mn > 0.0 && mx / mn >= 10.0;
         let title = format!("{algo}: ERT and median vs {param} - {instance}, target RMSE {target}");
         let c = figures::sweep_chart(&title, &param, Measure::CpuSeconds, &rows, x_log);
-        let base = dir.join(format!(
-            "{}-sweep-{}-{}",
-            slug(instance),
-            slug(algo),
-            slug(&param)
-        ));
-        files.extend(plot::draw(&c, &base, &spec.plots.formats)?);
+        out.push((format!("sweep-{}-{}", slug(algo), slug(&param)), c));
     }
-    Ok(files)
+    out
 }
 
 /// A short description of where an instance's data comes from (for messages).

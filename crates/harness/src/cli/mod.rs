@@ -10,6 +10,7 @@ mod cluster;
 mod data;
 mod graphics;
 mod model;
+mod report;
 mod tune;
 pub mod values;
 
@@ -17,6 +18,7 @@ pub use cluster::{MergeArgs, SlurmArgs};
 pub use data::DataArgs;
 pub use graphics::{PolarArgs, RenderArgs};
 pub use model::{FitArgs, ParamArgs};
+pub use report::{CompareArgs, CompletionsArgs, ManArgs, ReportArgs, VerdictMeasure};
 pub use tune::{TrialArgs, TuneArgs};
 
 use harness::progress::ProgressMode;
@@ -30,7 +32,9 @@ use harness::progress::ProgressMode;
     long_about = "Stochastic local search for Lafortune BRDF fitting (Backer, Kimberley and \
 Skrypnyk).\n\nStart with `brdf-sls run`: it runs the built-in default experiment (the paper's \
 tuning instance, AED vs AERS vs RPLS, under a minute on 2 cores) and writes results, \
-statistics and plots to runs/default/.\n\nExit codes: 0 success (also when the output pipe \
+statistics, plots and report.html to runs/default/.\n\nEnvironment: BRDF_SLS_THREADS sets the \
+default worker thread count of `run` (a --threads flag wins over it, it wins over the spec's \
+`threads`).\n\nExit codes: 0 success (also when the output pipe \
 closes early), 2 usage, spec or data errors, 1 runtime failures."
 )]
 pub struct Cli {
@@ -81,6 +85,16 @@ pub enum Command {
     /// Speed report: each kernel's ns per lobe-sample against the machine's arithmetic peak,
     /// and AED, AERS and RPLS to target on the paper's tuning and cross instances.
     Bench(BenchArgs),
+    /// Write one self-contained HTML page of results folders: the plan, provenance, tables,
+    /// RTDs, error-time curves, traces, sweeps and the best fit.
+    Report(ReportArgs),
+    /// Compare two results folders (before and after): a verdict per instance, configuration
+    /// and target, and an HTML page; exits 1 when B is significantly slower anywhere.
+    Compare(CompareArgs),
+    /// Print a shell completion script (bash, zsh, fish, powershell, elvish).
+    Completions(CompletionsArgs),
+    /// Write the man pages (roff), generated from the same definitions as --help.
+    Man(ManArgs),
 }
 
 /// `brdf-sls run`.
@@ -91,8 +105,8 @@ pub struct RunArgs {
     /// Output directory (default: runs/<spec file stem>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Worker threads (default: the spec's `threads`, else all CPUs).
-    #[arg(long)]
+    /// Worker threads (default: $BRDF_SLS_THREADS, else the spec's `threads`, else all CPUs).
+    #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
     /// Move an existing results file aside (renamed, never deleted) and start over.
     #[arg(long)]
@@ -105,7 +119,7 @@ pub struct RunArgs {
     /// whole run; default output runs/<stem>/shard-K-of-N/. Merge with `brdf-sls merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<harness::shard::Shard>,
-    /// Skip the plots (statistics are still written).
+    /// Skip the plots and report.html (statistics are still written).
     #[arg(long)]
     pub no_plots: bool,
     /// Evaluation kernel: auto, avx512, avx2, portable or scalar (default: the spec's
@@ -123,8 +137,9 @@ pub struct RunArgs {
 pub struct CheckArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
-    /// Threads to estimate wall time for (default: the spec's, else all CPUs).
-    #[arg(long)]
+    /// Threads to estimate wall time for (default: $BRDF_SLS_THREADS, else the spec's, else
+    /// all CPUs).
+    #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
 }
 
@@ -200,8 +215,8 @@ pub struct StressArgs {
     /// Master seed of every random draw.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Worker threads (default: all CPUs).
-    #[arg(long)]
+    /// Worker threads (default: $BRDF_SLS_THREADS, else all CPUs).
+    #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
 }
 

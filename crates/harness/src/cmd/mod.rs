@@ -8,12 +8,15 @@ use crate::cli::Command;
 
 mod bench;
 mod check;
+mod compare;
+mod completions;
 mod data;
 mod export;
 mod fit;
 mod merge;
 mod polar;
 mod render;
+mod report;
 mod results;
 mod run;
 pub mod shared;
@@ -42,6 +45,10 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Tune(a) => tune::tune(a),
         Command::Stress(a) => stress::stress(a),
         Command::Bench(a) => bench::bench(a),
+        Command::Report(a) => report::report(a),
+        Command::Compare(a) => compare::compare(a),
+        Command::Completions(a) => completions::completions(a),
+        Command::Man(a) => completions::man(a),
     }
 }
 

@@ -93,10 +93,15 @@ pub fn run(a: RunArgs) -> Result<()> {
         !a.no_plots,
     )
     .context("writing statistics and plots")?;
+    let mut written = report.files.len();
+    if !a.no_plots {
+        let folder = harness::folder::Folder::new(&out, spec, contents, Vec::new());
+        super::report::write_report_page(&[folder], &out.join("report.html"))?;
+        written += 1;
+    }
     say!("{}", report.table);
     say!(
-        "wrote {} files to {} (statistics: stats.csv, tests.csv; plots: plots/)",
-        report.files.len(),
+        "wrote {written} files to {} (statistics: stats.csv, tests.csv; plots: plots/; page: report.html)",
         out.display()
     );
     Ok(())

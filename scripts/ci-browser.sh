@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Opens two pages of brdf-sls in headless Chromium, as a reader would: the report of a results
+# folder (written by `run`) and a comparison of that folder with a second, small run of the
+# same experiment under another kernel. Fails when a page logs a console error, when a figure
+# or table of the page is missing from the browser's DOM, or when its screenshot is blank.
+#
+# Usage: scripts/ci-browser.sh [RESULTS_DIR] [BRDF_SLS_BINARY] [WORK_DIR]
+#   defaults: runs/default, target/release/brdf-sls, runs/browser
+# Installs Debian's chromium when /usr/bin/chromium is missing (needs root, as in CI).
+set -euo pipefail
+
+results=${1:-runs/default}
+bin=${2:-target/release/brdf-sls}
+work=${3:-runs/browser}
+mkdir -p "$work"
+work=$(cd "$work" && pwd)
+
+if [[ ! -x /usr/bin/chromium ]]; then
+    apt-get update
+    apt-get install -y chromium
+fi
+
+profile=$(mktemp -d)
+trap 'rm -rf "$profile"' EXIT
+
+# The flags a closed network needs: no sandbox (root), no GPU, no first-run or background
+# traffic; console messages go to standard error.
+chromium_run() {
+    /usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+        --disable-background-networking --disable-component-update --disable-sync \
+        --user-data-dir="$profile" --enable-logging=stderr --v=0 "$@"
+}
+
+# Console messages of a page (errors among them) as Chromium logs them.
+console_lines() {
+    grep -E ':CONSOLE[:(]|Uncaught' "$1" || true
+}
+
+# Checks one page: no console message, every figure and table in the DOM, a screenshot that
+# is not blank. $1 = the HTML file, $2 = a short name for the outputs.
+check_page() {
+    local page name dom log png expected_fig expected_tab got_fig got_tab got_svg
+    page=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+    name=$2
+    dom="$work/$name.dom.html"
+    log="$work/$name.console.log"
+    png="$work/$name.png"
+    test -s "$page" || { echo "error: $page is missing or empty" >&2; return 1; }
+    chromium_run --dump-dom "file://$page" > "$dom" 2> "$log"
+    if [[ -n "$(console_lines "$log")" ]]; then
+        echo "error: $name: console messages:" >&2
+        console_lines "$log" >&2
+        return 1
+    fi
+    expected_fig=$(grep -o '<figure class="chart"' "$page" | wc -l)
+    expected_tab=$(grep -o '<table class=' "$page" | wc -l)
+    got_fig=$(grep -o '<figure class="chart"' "$dom" | wc -l)
+    got_tab=$(grep -o '<table class=' "$dom" | wc -l)
+    got_svg=$(grep -o '<svg ' "$dom" | wc -l)
+    if [[ "$expected_fig" -lt 1 || "$got_fig" -ne "$expected_fig" || "$got_svg" -ne "$expected_fig" ]]; then
+        echo "error: $name: $expected_fig figures in the page, $got_fig figures and $got_svg SVGs in the DOM" >&2
+        return 1
+    fi
+    if [[ "$expected_tab" -lt 1 || "$got_tab" -ne "$expected_tab" ]]; then
+        echo "error: $name: $expected_tab tables in the page, $got_tab in the DOM" >&2
+        return 1
+    fi
+    chromium_run --screenshot="$png" --window-size=1280,2000 "file://$page" 2>> "$log" >/dev/null
+    python3 "$(dirname "$0")/png-colours.py" "$png" --min-colours 16 --min-ink 0.01
+    echo "$name: $got_fig figures, $got_tab tables, no console messages; screenshot $png"
+}
+
+# The console check must see a real console error: a probe page logs one.
+probe="$work/probe.html"
+echo '<!DOCTYPE html><html><body><script>console.error("probe-error")</script></body></html>' > "$probe"
+chromium_run --dump-dom "file://$probe" > /dev/null 2> "$work/probe.log"
+if ! console_lines "$work/probe.log" | grep -q probe-error; then
+    echo "error: a console error of a probe page was not seen; the console check would be blind" >&2
+    exit 1
+fi
+
+check_page "$results/report.html" report
+
+# The same experiment again into another folder, under another kernel and with fewer trials.
+"$bin" run --out "$work/portable" --kernel portable --limit 30 --no-plots --progress quiet --fresh
+status=0
+"$bin" compare "$results" "$work/portable" --out "$work/compare.html" || status=$?
+# 0: nothing slower, 1: something slower (kernels may differ in speed); 2 or worse: broken.
+if [[ "$status" -gt 1 ]]; then
+    echo "error: compare exited with $status" >&2
+    exit 1
+fi
+check_page "$work/compare.html" compare
+echo "browser checks passed"
