@@ -12,7 +12,8 @@
 //! - [`Search`]: what an algorithm may do (random pick, evaluate, descend), implemented by
 //!   [`TrialContext`], which counts sample-evaluations, checks the target and the budget, and
 //!   keeps the best candidate and the anytime trace.
-//! - [`algorithms`]: one file per algorithm, selected by [`AlgorithmConfig`].
+//! - [`algorithms`]: one file per algorithm, selected by [`AlgorithmConfig`]; [`registry`]
+//!   holds the kinds, built-in and user-registered ([`registry::register`]).
 //! - [`run_trial`]: one trial, start to finish, on the calling thread.
 //!
 //! ```
@@ -40,6 +41,7 @@ mod config;
 mod context;
 mod descent_model;
 mod objective;
+pub mod registry;
 mod search;
 pub mod trial;
 mod validate;
