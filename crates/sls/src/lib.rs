@@ -61,5 +61,10 @@ pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 pub use validate::ConfigError;
 
+/// The guide docs/own-algorithm.md, whose Rust example runs as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/own-algorithm.md")]
+pub struct OwnAlgorithmGuide;
+
 /// The random number generator of a trial, seeded with `SeedableRng::seed_from_u64(seed)`.
 pub type SearchRng = rand_pcg::Pcg64Mcg;
