@@ -174,14 +174,14 @@ fn elites_and_validation_spec() {
         v.config_labels(),
         ["AED default", "AED irace-1", "AED irace-2"]
     );
-    match &v.configurations[1].algorithm {
-        sls::AlgorithmConfig::Aed(a) => assert_eq!((a.phi, a.rho0), (1.523, 33)),
-        other => panic!("{other:?}"),
-    }
-    match &v.configurations[2].algorithm {
-        sls::AlgorithmConfig::Aed(a) => assert_eq!((a.phi, a.rho0), (1.1, 25)),
-        other => panic!("{other:?}"),
-    }
+    let a = v.configurations[1]
+        .algorithm
+        .downcast_ref::<sls::AedConfig>();
+    assert_eq!(a.map(|a| (a.phi, a.rho0)), Some((1.523, 33)));
+    let a = v.configurations[2]
+        .algorithm
+        .downcast_ref::<sls::AedConfig>();
+    assert_eq!(a.map(|a| (a.phi, a.rho0)), Some((1.1, 25)));
     assert!(text.contains("irace configuration 14"));
 }
 

@@ -38,16 +38,16 @@ fn configs() -> Vec<(String, AlgorithmConfig)> {
         let tag = format!("{p:?}").to_lowercase();
         out.push((
             format!("sa default (1 -> 0.3), {tag}"),
-            AlgorithmConfig::Sa(with(&SaConfig::default(), p)),
+            AlgorithmConfig::new(with(&SaConfig::default(), p)),
         ));
         out.push((
             format!("sa cool (0.1 -> 0.001), {tag}"),
-            AlgorithmConfig::Sa(with(&cool, p)),
+            AlgorithmConfig::new(with(&cool, p)),
         ));
         let sals = SalsConfig::default();
         out.push((
             format!("sals default, {tag}"),
-            AlgorithmConfig::Sals(SalsConfig {
+            AlgorithmConfig::new(SalsConfig {
                 first: with(&sals.first, p),
                 later: with(&sals.later, p),
                 ..sals
@@ -56,7 +56,7 @@ fn configs() -> Vec<(String, AlgorithmConfig)> {
         let avg = AvgConfig::default();
         out.push((
             format!("avg default, {tag}"),
-            AlgorithmConfig::Avg(AvgConfig {
+            AlgorithmConfig::new(AvgConfig {
                 sa: with(&avg.sa, p),
                 ..avg
             }),
@@ -70,12 +70,12 @@ fn configs() -> Vec<(String, AlgorithmConfig)> {
     };
     out.push((
         "sa cool (0.1 -> 0.001), optimiser, sub500".into(),
-        AlgorithmConfig::Sa(sub(&cool)),
+        AlgorithmConfig::new(sub(&cool)),
     ));
     let sals = SalsConfig::default();
     out.push((
         "sals default, optimiser, sub500".into(),
-        AlgorithmConfig::Sals(SalsConfig {
+        AlgorithmConfig::new(SalsConfig {
             first: sub(&sals.first),
             later: sub(&sals.later),
             ..sals
@@ -83,11 +83,11 @@ fn configs() -> Vec<(String, AlgorithmConfig)> {
     ));
     out.push((
         "asa default".into(),
-        AlgorithmConfig::Asa(AsaConfig::default()),
+        AlgorithmConfig::new(AsaConfig::default()),
     ));
     out.push((
         "asa paper-tuned".into(),
-        AlgorithmConfig::Asa(AsaConfig::paper_tuned()),
+        AlgorithmConfig::new(AsaConfig::paper_tuned()),
     ));
     out
 }

@@ -38,8 +38,8 @@
 
 use brdf_model::{ExponentCoord, Layout, LobeKind, named_params, synthetic};
 use sls::{
-    AedConfig, AersConfig, AlgorithmConfig, BrdfObjective, Budget, DescentLimits, DsConfig, Rows,
-    RplsConfig, Search, TrialContext, run_trial,
+    AedConfig, AersConfig, AlgorithmConfig, AvgConfig, BrdfObjective, Budget, DescentLimits,
+    DsConfig, Rows, RplsConfig, SaConfig, SalsConfig, Search, TrialContext, run_trial,
 };
 use std::sync::Arc;
 
@@ -240,39 +240,39 @@ fn main() {
         };
         for variant in variants {
             let config = match (name.as_str(), variant) {
-                ("aed", Some((k, stall))) => AlgorithmConfig::Aed(AedConfig {
+                ("aed", Some((k, stall))) => AlgorithmConfig::new(AedConfig {
                     descent_iterations: k,
                     stall_limit: stall,
                     ..AedConfig::default()
                 }),
-                ("aers", Some((k, stall))) => AlgorithmConfig::Aers(AersConfig {
+                ("aers", Some((k, stall))) => AlgorithmConfig::new(AersConfig {
                     descent_iterations: k,
                     stall_limit: stall,
                     ..AersConfig::default()
                 }),
-                ("rpls", _) => AlgorithmConfig::Rpls(RplsConfig::default()),
-                ("ds", _) => AlgorithmConfig::Ds(DsConfig::default()),
+                ("rpls", _) => AlgorithmConfig::new(RplsConfig::default()),
+                ("ds", _) => AlgorithmConfig::new(DsConfig::default()),
                 // The annealing kinds with their defaults; `asa-paper`: the paper's tuned ASA;
                 // `*-opt`: SA perturbations scaled in the optimiser's coordinates.
-                ("asa-paper", _) => AlgorithmConfig::Asa(sls::AsaConfig::paper_tuned()),
-                (kind, _) if kind.ends_with("-opt") => {
-                    match AlgorithmConfig::default_for(kind.trim_end_matches("-opt")) {
-                        Some(AlgorithmConfig::Sa(c)) => AlgorithmConfig::Sa(opt(c)),
-                        Some(AlgorithmConfig::Avg(mut c)) => {
-                            c.sa = opt(c.sa);
-                            AlgorithmConfig::Avg(c)
-                        }
-                        Some(AlgorithmConfig::Sals(mut c)) => {
-                            c.first = opt(c.first);
-                            c.later = opt(c.later);
-                            AlgorithmConfig::Sals(c)
-                        }
-                        _ => {
-                            eprintln!("unknown algorithm {name}");
-                            std::process::exit(2);
-                        }
+                ("asa-paper", _) => AlgorithmConfig::new(sls::AsaConfig::paper_tuned()),
+                (kind, _) if kind.ends_with("-opt") => match kind.trim_end_matches("-opt") {
+                    "sa" => AlgorithmConfig::new(opt(SaConfig::default())),
+                    "avg" => {
+                        let mut c = AvgConfig::default();
+                        c.sa = opt(c.sa);
+                        AlgorithmConfig::new(c)
                     }
-                }
+                    "sals" => {
+                        let mut c = SalsConfig::default();
+                        c.first = opt(c.first);
+                        c.later = opt(c.later);
+                        AlgorithmConfig::new(c)
+                    }
+                    _ => {
+                        eprintln!("unknown algorithm {name}");
+                        std::process::exit(2);
+                    }
+                },
                 (kind @ ("sa" | "sals" | "avg" | "asa"), _) => {
                     AlgorithmConfig::default_for(kind).expect("annealing kinds have defaults")
                 }

@@ -1,96 +1,192 @@
 //! Algorithm selection: [`AlgorithmConfig`], deserialised from the harness's TOML/JSON with
-//! `kind = "aed"` etc. (validation errors are [`ConfigError`], defined in `validate.rs`).
+//! `kind = "aed"` etc. (validation errors are [`ConfigError`], defined in `validate.rs`; the
+//! kinds are those of [`crate::registry`]).
 
-use crate::algorithms::{
-    AedConfig, AersConfig, AsaConfig, AvgConfig, DsConfig, RplsConfig, SaConfig, SalsConfig,
-};
+use crate::registry::{self, Algorithm, Value};
 use crate::search::{Search, Stop};
 use crate::validate::ConfigError;
-use serde::{Deserialize, Serialize};
+use serde::de::Error as _;
+use serde::ser::{Error as _, SerializeMap, SerializeStruct};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::any::Any;
+use std::fmt;
 
-/// Which algorithm a trial runs, with its parameters. Serialised with a `kind` tag:
-/// `{"kind": "aed", "phi": 1.4}`; missing fields take the paper's defaults, unknown fields are
-/// rejected.
+/// Which algorithm a trial runs, with its parameters: any registered [`Algorithm`]'s
+/// configuration. Serialised with a `kind` tag beside the configuration's fields:
+/// `{"kind": "aed", "phi": 1.4}`; missing fields take the algorithm's defaults, unknown fields
+/// and unregistered kinds are rejected.
 ///
-/// To add an algorithm: a file under `src/algorithms/` with its config struct (`validate`,
-/// defaults) and `run`, one variant here and one arm in each `match` of this file.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "lowercase")]
-pub enum AlgorithmConfig {
-    /// Adaptive Evaluation with Decreasing subsample size (section 2.1, Figure 3).
-    Aed(AedConfig),
-    /// Adaptive Evaluation with Restarts: AED without the decrease (section 2.2).
-    Aers(AersConfig),
-    /// Random Picking with Local Search: random pick, descent on the full data set, repeat.
-    Rpls(RplsConfig),
-    /// Downhill simplex (Nelder-Mead, Numerical Recipes' amoeba) with restarts (section 2.5).
-    Ds(DsConfig),
-    /// The paper's basic simulated annealing on its own, restarted from random picks
-    /// (section 2.3, Figures 4 and 5).
-    Sa(SaConfig),
-    /// Simulated annealing alternated with descents (section 2.3, Figure 6).
-    Sals(SalsConfig),
-    /// Averaging simulated annealing and descent results (section 2.4, Figure 7).
-    Avg(AvgConfig),
-    /// Ingber's Adaptive Simulated Annealing (section 3.1.3).
-    Asa(AsaConfig),
+/// ```
+/// use sls::{AedConfig, AlgorithmConfig};
+///
+/// let config = AlgorithmConfig::new(AedConfig { phi: 1.2, ..AedConfig::default() });
+/// assert_eq!(config.kind_name(), "aed");
+/// let text = serde_json::to_string(&config).unwrap();
+/// assert!(text.starts_with(r#"{"kind":"aed","phi":1.2,"#));
+/// let back: AlgorithmConfig = serde_json::from_str(&text).unwrap();
+/// assert_eq!(back.downcast_ref::<AedConfig>().unwrap().phi, 1.2);
+/// ```
+pub struct AlgorithmConfig {
+    config: Box<dyn DynAlgorithm>,
 }
 
 impl AlgorithmConfig {
+    /// Wraps an algorithm's configuration (registered or not: only deserialisation needs the
+    /// kind registered).
+    pub fn new<T: Algorithm>(config: T) -> Self {
+        Self {
+            config: Box::new(config),
+        }
+    }
+
     /// Checks every parameter; the error names the offending field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        match self {
-            AlgorithmConfig::Aed(c) => c.validate(),
-            AlgorithmConfig::Aers(c) => c.validate(),
-            AlgorithmConfig::Rpls(c) => c.validate(),
-            AlgorithmConfig::Ds(c) => c.validate(),
-            AlgorithmConfig::Sa(c) => c.validate(),
-            AlgorithmConfig::Sals(c) => c.validate(),
-            AlgorithmConfig::Avg(c) => c.validate(),
-            AlgorithmConfig::Asa(c) => c.validate(),
-        }
+        self.config.validate()
     }
 
-    /// The `kind` tag: `"aed"`, `"aers"`, `"rpls"`, `"ds"`, `"sa"`, `"sals"`, `"avg"`, `"asa"`.
+    /// The `kind` tag: `"aed"`, `"aers"`, `"rpls"`, `"ds"`, `"sa"`, `"sals"`, `"avg"`, `"asa"`,
+    /// or a registered algorithm's [`Algorithm::KIND`].
     pub fn kind_name(&self) -> &'static str {
-        match self {
-            AlgorithmConfig::Aed(_) => "aed",
-            AlgorithmConfig::Aers(_) => "aers",
-            AlgorithmConfig::Rpls(_) => "rpls",
-            AlgorithmConfig::Ds(_) => "ds",
-            AlgorithmConfig::Sa(_) => "sa",
-            AlgorithmConfig::Sals(_) => "sals",
-            AlgorithmConfig::Avg(_) => "avg",
-            AlgorithmConfig::Asa(_) => "asa",
-        }
+        self.config.kind()
     }
 
-    /// The default configuration of the algorithm named `kind`, if there is one.
+    /// The default configuration of the registered algorithm named `kind`, if there is one.
     pub fn default_for(kind: &str) -> Option<Self> {
-        Some(match kind {
-            "aed" => AlgorithmConfig::Aed(AedConfig::default()),
-            "aers" => AlgorithmConfig::Aers(AersConfig::default()),
-            "rpls" => AlgorithmConfig::Rpls(RplsConfig::default()),
-            "ds" => AlgorithmConfig::Ds(DsConfig::default()),
-            "sa" => AlgorithmConfig::Sa(SaConfig::default()),
-            "sals" => AlgorithmConfig::Sals(SalsConfig::default()),
-            "avg" => AlgorithmConfig::Avg(AvgConfig::default()),
-            "asa" => AlgorithmConfig::Asa(AsaConfig::default()),
-            _ => return None,
-        })
+        registry::default_for(kind)
     }
 
     /// Runs the algorithm until it stops (`Err`) or finishes by itself (`Ok`).
-    pub fn run<S: Search>(&self, search: &mut S) -> Result<(), Stop> {
-        match self {
-            AlgorithmConfig::Aed(c) => crate::algorithms::aed::run(c, search),
-            AlgorithmConfig::Aers(c) => crate::algorithms::aers::run(c, search),
-            AlgorithmConfig::Rpls(c) => crate::algorithms::rpls::run(c, search),
-            AlgorithmConfig::Ds(c) => crate::algorithms::ds::run(c, search),
-            AlgorithmConfig::Sa(c) => crate::algorithms::sa::run(c, search),
-            AlgorithmConfig::Sals(c) => crate::algorithms::sals::run(c, search),
-            AlgorithmConfig::Avg(c) => crate::algorithms::avg::run(c, search),
-            AlgorithmConfig::Asa(c) => crate::algorithms::asa::run(c, search),
+    pub fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        self.config.run(search)
+    }
+
+    /// The configuration, if it is a `T`.
+    pub fn downcast_ref<T: Algorithm>(&self) -> Option<&T> {
+        self.config.as_any().downcast_ref()
+    }
+
+    /// The configuration, mutably, if it is a `T`.
+    pub fn downcast_mut<T: Algorithm>(&mut self) -> Option<&mut T> {
+        self.config.as_any_mut().downcast_mut()
+    }
+}
+
+impl<T: Algorithm> From<T> for AlgorithmConfig {
+    fn from(config: T) -> Self {
+        Self::new(config)
+    }
+}
+
+impl Clone for AlgorithmConfig {
+    fn clone(&self) -> Self {
+        Self {
+            config: self.config.clone_box(),
         }
+    }
+}
+
+impl PartialEq for AlgorithmConfig {
+    fn eq(&self, other: &Self) -> bool {
+        self.config.dyn_eq(other.config.as_any())
+    }
+}
+
+/// The configuration's own `Debug` (its type name and fields).
+impl fmt::Debug for AlgorithmConfig {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.config.fmt(f)
+    }
+}
+
+/// Writes what serde writes for an internally tagged enum variant: the struct (or map) of the
+/// configuration with `kind` as its first field.
+impl Serialize for AlgorithmConfig {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let kind = self.kind_name();
+        match self.config.capture().map_err(S::Error::custom)? {
+            Value::Struct(name, fields) => {
+                let mut s = serializer.serialize_struct(name, fields.len() + 1)?;
+                s.serialize_field("kind", kind)?;
+                for (key, value) in &fields {
+                    s.serialize_field(key, value)?;
+                }
+                s.end()
+            }
+            Value::Map(entries) => {
+                let mut m = serializer.serialize_map(Some(entries.len() + 1))?;
+                m.serialize_entry("kind", kind)?;
+                for (key, value) in &entries {
+                    m.serialize_entry(key, value)?;
+                }
+                m.end()
+            }
+            _ => Err(S::Error::custom(format!(
+                "algorithm `{kind}`: its configuration must serialise as a struct or a map"
+            ))),
+        }
+    }
+}
+
+/// Reads `kind` and hands the other fields to the registered configuration type.
+impl<'de> Deserialize<'de> for AlgorithmConfig {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let Value::Map(mut entries) = Value::deserialize(deserializer)? else {
+            return Err(D::Error::custom(
+                "an algorithm configuration must be a table with a `kind`",
+            ));
+        };
+        let at = entries
+            .iter()
+            .position(|(k, _)| matches!(k, Value::Str(s) if s == "kind"))
+            .ok_or_else(|| D::Error::missing_field("kind"))?;
+        let kind = match entries.remove(at).1 {
+            Value::Str(kind) => kind,
+            other => {
+                let found = other.type_name();
+                return Err(D::Error::custom(format!(
+                    "`kind` must be a string, found {found}"
+                )));
+            }
+        };
+        registry::from_fields(&kind, Value::Map(entries)).map_err(D::Error::custom)
+    }
+}
+
+/// An [`Algorithm`] with its type erased: what [`AlgorithmConfig`] holds.
+pub(crate) trait DynAlgorithm: fmt::Debug + Send + Sync {
+    fn kind(&self) -> &'static str;
+    fn validate(&self) -> Result<(), ConfigError>;
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop>;
+    fn clone_box(&self) -> Box<dyn DynAlgorithm>;
+    fn dyn_eq(&self, other: &dyn Any) -> bool;
+    fn capture(&self) -> Result<Value, serde::de::value::Error>;
+    fn as_any(&self) -> &dyn Any;
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+impl<T: Algorithm> DynAlgorithm for T {
+    fn kind(&self) -> &'static str {
+        T::KIND
+    }
+    fn validate(&self) -> Result<(), ConfigError> {
+        Algorithm::validate(self)
+    }
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        Algorithm::run(self, search)
+    }
+    fn clone_box(&self) -> Box<dyn DynAlgorithm> {
+        Box::new(self.clone())
+    }
+    fn dyn_eq(&self, other: &dyn Any) -> bool {
+        other.downcast_ref::<T>() == Some(self)
+    }
+    fn capture(&self) -> Result<Value, serde::de::value::Error> {
+        registry::capture(self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
     }
 }

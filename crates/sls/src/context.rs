@@ -669,7 +669,7 @@ mod tests {
     use crate::objective::toy::Toy;
 
     fn ds() -> AlgorithmConfig {
-        AlgorithmConfig::Ds(DsConfig::default())
+        AlgorithmConfig::new(DsConfig::default())
     }
 
     #[test]
@@ -853,7 +853,7 @@ mod tests {
     #[test]
     fn invalid_configuration_ends_the_trial_at_once() {
         let toy = Toy::new(50, 0.0, 5);
-        let bad = AlgorithmConfig::Ds(DsConfig {
+        let bad = AlgorithmConfig::new(DsConfig {
             rtol: -1.0,
             ..DsConfig::default()
         });

@@ -12,7 +12,8 @@
 //! - [`Search`]: what an algorithm may do (random pick, evaluate, descend), implemented by
 //!   [`TrialContext`], which counts sample-evaluations, checks the target and the budget, and
 //!   keeps the best candidate and the anytime trace.
-//! - [`algorithms`]: one file per algorithm, selected by [`AlgorithmConfig`].
+//! - [`algorithms`]: one file per algorithm, selected by [`AlgorithmConfig`]; [`registry`]
+//!   holds the kinds, built-in and user-registered ([`registry::register`]).
 //! - [`run_trial`]: one trial, start to finish, on the calling thread.
 //!
 //! ```
@@ -40,6 +41,7 @@ mod config;
 mod context;
 mod descent_model;
 mod objective;
+pub mod registry;
 mod search;
 pub mod trial;
 mod validate;
@@ -58,6 +60,11 @@ pub use objective::{Objective, Rows};
 pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
 pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 pub use validate::ConfigError;
+
+/// The guide docs/own-algorithm.md, whose Rust example runs as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/own-algorithm.md")]
+pub struct OwnAlgorithmGuide;
 
 /// The random number generator of a trial, seeded with `SeedableRng::seed_from_u64(seed)`.
 pub type SearchRng = rand_pcg::Pcg64Mcg;

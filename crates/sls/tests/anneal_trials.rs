@@ -13,7 +13,7 @@ use common::{assert_reproducible_within_budget, cpu, tuning};
 
 /// A cool SA in the optimiser's coordinates, which can fit the easy instance.
 fn cool_sa() -> AlgorithmConfig {
-    AlgorithmConfig::Sa(SaConfig {
+    AlgorithmConfig::new(SaConfig {
         t_start: 0.1,
         t_stop: 0.001,
         perturbation: Perturbation::Optimiser,
@@ -23,18 +23,18 @@ fn cool_sa() -> AlgorithmConfig {
 
 fn variants() -> Vec<AlgorithmConfig> {
     vec![
-        AlgorithmConfig::Sa(SaConfig::default()),
+        AlgorithmConfig::new(SaConfig::default()),
         cool_sa(),
-        AlgorithmConfig::Sa(SaConfig {
+        AlgorithmConfig::new(SaConfig {
             constant_acceptance: Some(0.1),
             ..SaConfig::default()
         }),
-        AlgorithmConfig::Asa(AsaConfig::paper_tuned()),
-        AlgorithmConfig::Sals(SalsConfig {
+        AlgorithmConfig::new(AsaConfig::paper_tuned()),
+        AlgorithmConfig::new(SalsConfig {
             descent_sample_size: 50,
             ..SalsConfig::default()
         }),
-        AlgorithmConfig::Sa(SaConfig {
+        AlgorithmConfig::new(SaConfig {
             sample_size: 100,
             ..SaConfig::default()
         }),
@@ -104,7 +104,7 @@ fn nested_configurations_deserialise_and_validate() {
             "descent_sample_size": 100}"#,
     )
     .unwrap();
-    let AlgorithmConfig::Sals(s) = &c else {
+    let Some(s) = c.downcast_ref::<SalsConfig>() else {
         panic!("{c:?}")
     };
     assert_eq!(s.later.t_start, 0.02);
@@ -134,6 +134,6 @@ fn nested_configurations_deserialise_and_validate() {
     }
     assert_eq!(
         AlgorithmConfig::default_for("sa"),
-        Some(AlgorithmConfig::Sa(SaConfig::default()))
+        Some(AlgorithmConfig::new(SaConfig::default()))
     );
 }

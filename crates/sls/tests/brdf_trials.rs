@@ -10,15 +10,15 @@ use common::{assert_reproducible_within_budget, cpu, tuning};
 
 fn all_algorithms() -> Vec<AlgorithmConfig> {
     vec![
-        AlgorithmConfig::Aed(AedConfig::default()),
-        AlgorithmConfig::Aers(AersConfig::default()),
-        AlgorithmConfig::Rpls(RplsConfig::default()),
-        AlgorithmConfig::Ds(DsConfig::default()),
+        AlgorithmConfig::new(AedConfig::default()),
+        AlgorithmConfig::new(AersConfig::default()),
+        AlgorithmConfig::new(RplsConfig::default()),
+        AlgorithmConfig::new(DsConfig::default()),
         // The standalone SA (kind "sa") cannot reach the target with the paper's defaults; it is
         // covered by tests/anneal_trials.rs.
-        AlgorithmConfig::Sals(SalsConfig::default()),
-        AlgorithmConfig::Avg(AvgConfig::default()),
-        AlgorithmConfig::Asa(AsaConfig::default()),
+        AlgorithmConfig::new(SalsConfig::default()),
+        AlgorithmConfig::new(AvgConfig::default()),
+        AlgorithmConfig::new(AsaConfig::default()),
     ]
 }
 
@@ -76,13 +76,13 @@ fn configurations_deserialise_with_defaults_and_reject_unknown_fields() {
     let c: AlgorithmConfig = serde_json::from_str(r#"{"kind": "aed", "phi": 2.0}"#).unwrap();
     assert_eq!(
         c,
-        AlgorithmConfig::Aed(AedConfig {
+        AlgorithmConfig::new(AedConfig {
             phi: 2.0,
             ..AedConfig::default()
         })
     );
     let c: AlgorithmConfig = serde_json::from_str(r#"{"kind": "ds"}"#).unwrap();
-    assert_eq!(c, AlgorithmConfig::Ds(DsConfig::default()));
+    assert_eq!(c, AlgorithmConfig::new(DsConfig::default()));
     assert!(serde_json::from_str::<AlgorithmConfig>(r#"{"kind": "aed", "rho": 3}"#).is_err());
     assert!(serde_json::from_str::<AlgorithmConfig>(r#"{"kind": "nope"}"#).is_err());
     for config in all_algorithms() {
@@ -106,7 +106,7 @@ fn configurations_deserialise_with_defaults_and_reject_unknown_fields() {
 #[test]
 fn descent_model_changes_long_descents_reproducibly() {
     let objective = tuning(500, 0.1, 2);
-    let config = AlgorithmConfig::Rpls(RplsConfig::default());
+    let config = AlgorithmConfig::new(RplsConfig::default());
     let budget = sls::Budget {
         cpu_seconds: None,
         sample_evaluations: Some(2_000_000),
@@ -155,8 +155,8 @@ fn a_trial_does_not_depend_on_the_trial_before_it_on_its_thread() {
         sample_evaluations: Some(300_000),
     };
     for config in [
-        AlgorithmConfig::Aed(AedConfig::default()),
-        AlgorithmConfig::Rpls(RplsConfig::default()),
+        AlgorithmConfig::new(AedConfig::default()),
+        AlgorithmConfig::new(RplsConfig::default()),
     ] {
         let trial = || run_trial(&one_lobe, &config, 3, budget, 0.0).without_clock();
         let alone = std::thread::scope(|s| s.spawn(trial).join().unwrap());

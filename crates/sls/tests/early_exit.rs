@@ -42,7 +42,7 @@ fn early_exit_changes_no_decision() {
     for kind in ["aed", "aers", "rpls"] {
         let mut config = AlgorithmConfig::default_for(kind).unwrap();
         // A stall limit makes AED/AERS need exact RMSEs below the stall reference.
-        if let AlgorithmConfig::Aed(c) = &mut config {
+        if let Some(c) = config.downcast_mut::<sls::AedConfig>() {
             c.stall_limit = 3;
         }
         for seed in 1..=4 {

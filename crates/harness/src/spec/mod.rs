@@ -624,12 +624,10 @@ impl Spec {
     }
 }
 
-/// Algorithm kinds this build of sls knows (names probed with `AlgorithmConfig::default_for`).
+/// Algorithm kinds registered in this process: sls's built-ins, then any added with
+/// `sls::registry::register`.
 pub fn known_kinds() -> Vec<&'static str> {
-    ["aed", "aers", "rpls", "ds", "sa", "sals", "avg", "asa"]
-        .into_iter()
-        .filter(|k| AlgorithmConfig::default_for(k).is_some())
-        .collect()
+    sls::registry::kinds()
 }
 
 #[cfg(test)]
@@ -675,13 +673,10 @@ kind = "rpls"
         assert_eq!(s.instances[0].model.kinds, vec![LobeKind::Anisotropic]);
         let labels = s.config_labels();
         assert_eq!(labels, vec!["AED rho0=10", "AED rho0=25", "RPLS"]);
-        match &s.configurations[0].algorithm {
-            AlgorithmConfig::Aed(c) => {
-                assert_eq!(c.rho0, 10);
-                assert_eq!(c.phi, 1.4);
-            }
-            other => panic!("{other:?}"),
-        }
+        let aed = s.configurations[0]
+            .algorithm
+            .downcast_ref::<sls::AedConfig>();
+        assert_eq!(aed.map(|c| (c.rho0, c.phi)), Some((10, 1.4)));
         assert_eq!(s.configurations[1].swept, vec![("rho0".to_string(), 25.0)]);
         assert_eq!(s.trials_plan().len(), 12);
         let plan = s.describe(2);

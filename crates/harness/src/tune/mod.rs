@@ -746,10 +746,8 @@ mod tests {
         assert!(parse_switches(&twice).is_err());
         let base = AlgorithmConfig::default_for("aed").unwrap();
         let c = with_values(&base, &v[..2]).unwrap();
-        match c {
-            AlgorithmConfig::Aed(a) => assert_eq!((a.phi, a.rho0), (1.3, 25)),
-            _ => panic!("kind changed"),
-        }
+        let a = c.downcast_ref::<sls::AedConfig>().expect("kind changed");
+        assert_eq!((a.phi, a.rho0), (1.3, 25));
         // An integer for a real field is accepted; a fraction for an integer field is not.
         assert!(with_values(&base, &[("phi".into(), toml::Value::Integer(2))]).is_ok());
         assert!(with_values(&base, &[("rho0".into(), toml::Value::Float(2.5))]).is_err());

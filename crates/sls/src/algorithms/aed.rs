@@ -44,6 +44,7 @@
 //! without it; results/fig18-polar/NOTE.md).
 
 use crate::objective::Rows;
+use crate::registry::Algorithm;
 use crate::search::{DescentLimits, Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
@@ -117,8 +118,20 @@ pub(crate) struct AdaptiveEvaluation {
     pub stall_limit: usize,
 }
 
+impl Algorithm for AedConfig {
+    const KIND: &'static str = "aed";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        AedConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs AED.
-pub fn run<S: Search>(config: &AedConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &AedConfig, search: &mut S) -> Result<(), Stop> {
     AdaptiveEvaluation {
         phi: config.phi,
         rho0: config.rho0,
@@ -134,7 +147,7 @@ pub fn run<S: Search>(config: &AedConfig, search: &mut S) -> Result<(), Stop> {
 
 impl AdaptiveEvaluation {
     /// Figure 3 (and, with [`OnFailure::Restart`], AERS).
-    pub(crate) fn run<S: Search>(&self, search: &mut S) -> Result<(), Stop> {
+    pub(crate) fn run<S: Search + ?Sized>(&self, search: &mut S) -> Result<(), Stop> {
         let n = search.sample_count();
         let full = n as f64;
         let rho0 = self.rho0 as f64;
@@ -187,7 +200,11 @@ impl AdaptiveEvaluation {
 
     /// The restart loop: random picks, each followed by a few descent iterations on a subsample
     /// of `rho0`, until a descent ends on its iteration limit; `s` receives that candidate.
-    fn find_promising_start<S: Search>(&self, search: &mut S, s: &mut [f64]) -> Result<(), Stop> {
+    fn find_promising_start<S: Search + ?Sized>(
+        &self,
+        search: &mut S,
+        s: &mut [f64],
+    ) -> Result<(), Stop> {
         let n = search.sample_count();
         loop {
             search.random_pick(s);

@@ -7,6 +7,7 @@
 //! iteration limit.
 
 use super::aed::{AdaptiveEvaluation, DEFAULT_DESCENT_ITERATIONS, DEFAULT_STALL_LIMIT, OnFailure};
+use crate::registry::Algorithm;
 use crate::search::{DescentLimits, Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
@@ -51,8 +52,20 @@ impl AersConfig {
     }
 }
 
+impl Algorithm for AersConfig {
+    const KIND: &'static str = "aers";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        AersConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs AERS.
-pub fn run<S: Search>(config: &AersConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &AersConfig, search: &mut S) -> Result<(), Stop> {
     AdaptiveEvaluation {
         phi: config.phi,
         rho0: config.rho0,

@@ -94,6 +94,7 @@
 //! `results/asa-cornell/` (ASA with its defaults and with the paper's tuned values, and RPLS,
 //! on the Krylon and acrylic blue paints with two isotropic lobes).
 
+use crate::registry::Algorithm;
 use crate::search::{Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
@@ -329,7 +330,7 @@ struct State {
 
 impl State {
     /// Draws a new state around `last` at the current temperatures into `trial`.
-    fn generate<S: Search>(&mut self, search: &mut S) {
+    fn generate<S: Search + ?Sized>(&mut self, search: &mut S) {
         for i in 0..self.d {
             let (lo, hi) = (self.lower[i], self.upper[i]);
             let range = hi - lo;
@@ -357,7 +358,7 @@ impl State {
     }
 
     /// Generates states until one is evaluable; `None` after too many unevaluable ones.
-    fn generate_valid<S: Search>(&mut self, search: &mut S) -> Result<Option<f64>, Stop> {
+    fn generate_valid<S: Search + ?Sized>(&mut self, search: &mut S) -> Result<Option<f64>, Stop> {
         for _ in 0..LIMIT_INVALID_STATES {
             self.generate(search);
             let f = search.evaluate(&self.trial)?;
@@ -370,7 +371,7 @@ impl State {
     }
 
     /// `cost_derivatives`: finite-difference tangents at the best state; the largest |tangent|.
-    fn tangents<S: Search>(
+    fn tangents<S: Search + ?Sized>(
         &mut self,
         search: &mut S,
         f_best: f64,
@@ -411,8 +412,20 @@ enum Exit {
     InvalidStates,
 }
 
+impl Algorithm for AsaConfig {
+    const KIND: &'static str = "asa";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        AsaConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs ASA, restarting it from a random pick whenever it exits.
-pub fn run<S: Search>(config: &AsaConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &AsaConfig, search: &mut S) -> Result<(), Stop> {
     let d = search.dim();
     let mut state = State {
         d,
@@ -439,7 +452,11 @@ pub fn run<S: Search>(config: &AsaConfig, search: &mut S) -> Result<(), Stop> {
 }
 
 /// One call of `asa()` from a random pick.
-fn run_once<S: Search>(config: &AsaConfig, search: &mut S, st: &mut State) -> Result<Exit, Stop> {
+fn run_once<S: Search + ?Sized>(
+    config: &AsaConfig,
+    search: &mut S,
+    st: &mut State,
+) -> Result<Exit, Stop> {
     let d = st.d;
     let c = config.parameter_scale(d);
     let c_cost = c * config.cost_parameter_scale_ratio;

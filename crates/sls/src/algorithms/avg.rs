@@ -25,6 +25,7 @@
 
 use crate::algorithms::sa::{Annealer, SaConfig};
 use crate::algorithms::sals::descent_rows;
+use crate::registry::Algorithm;
 use crate::search::{DescentLimits, Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use serde::{Deserialize, Serialize};
@@ -78,8 +79,20 @@ pub(crate) fn stagnant(before: f64, now: f64, tolerance: f64) -> bool {
     }
 }
 
+impl Algorithm for AvgConfig {
+    const KIND: &'static str = "avg";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        AvgConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs AVG.
-pub fn run<S: Search>(config: &AvgConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &AvgConfig, search: &mut S) -> Result<(), Stop> {
     let n = search.dim();
     let mut annealer = Annealer::new(search);
     let mut s = vec![0.0; n];

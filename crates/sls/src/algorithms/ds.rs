@@ -25,6 +25,7 @@
 //!   Recipes' NMAX), also restarts from a new random pick.
 //! - Every vertex evaluation is a full-data RMSE (counted as RMSE rows).
 
+use crate::registry::Algorithm;
 use crate::search::{Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
@@ -105,7 +106,11 @@ impl Simplex {
     }
 
     /// Places vertices 1..=N by perturbing vertex 0 along each axis, and evaluates them.
-    fn perturb_from_vertex0<S: Search>(&mut self, search: &mut S, step: f64) -> Result<(), Stop> {
+    fn perturb_from_vertex0<S: Search + ?Sized>(
+        &mut self,
+        search: &mut S,
+        step: f64,
+    ) -> Result<(), Stop> {
         let n = self.n;
         for i in 1..=n {
             let j = i - 1;
@@ -129,7 +134,12 @@ impl Simplex {
 
     /// Numerical Recipes' `amotry`: moves the worst vertex by factor `fac` through the face of
     /// the others (clamped into the box); replaces it if the trial point is better.
-    fn try_move<S: Search>(&mut self, search: &mut S, hi: usize, fac: f64) -> Result<f64, Stop> {
+    fn try_move<S: Search + ?Sized>(
+        &mut self,
+        search: &mut S,
+        hi: usize,
+        fac: f64,
+    ) -> Result<f64, Stop> {
         let n = self.n;
         let fac1 = (1.0 - fac) / n as f64;
         let fac2 = fac1 - fac;
@@ -170,7 +180,11 @@ impl Simplex {
     }
 
     /// Moves every vertex but `lo` halfway towards it and re-evaluates them.
-    fn shrink_towards<S: Search>(&mut self, search: &mut S, lo: usize) -> Result<(), Stop> {
+    fn shrink_towards<S: Search + ?Sized>(
+        &mut self,
+        search: &mut S,
+        lo: usize,
+    ) -> Result<(), Stop> {
         let n = self.n;
         for i in 0..=n {
             if i == lo {
@@ -195,8 +209,20 @@ fn fractional_range(f_hi: f64, f_lo: f64) -> f64 {
     }
 }
 
+impl Algorithm for DsConfig {
+    const KIND: &'static str = "ds";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        DsConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs DS.
-pub fn run<S: Search>(config: &DsConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &DsConfig, search: &mut S) -> Result<(), Stop> {
     let n = search.dim();
     let mut simplex = Simplex {
         n,

@@ -11,6 +11,7 @@
 //! data set (see [`crate::Search::evaluate`]).
 
 use crate::objective::Rows;
+use crate::registry::Algorithm;
 use crate::search::{DescentEnd, DescentLimits, Search, Stop};
 use crate::validate::{ConfigError, check_count};
 use serde::{Deserialize, Serialize};
@@ -43,8 +44,20 @@ impl RplsConfig {
     }
 }
 
+impl Algorithm for RplsConfig {
+    const KIND: &'static str = "rpls";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        RplsConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs RPLS.
-pub fn run<S: Search>(config: &RplsConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &RplsConfig, search: &mut S) -> Result<(), Stop> {
     let limits = DescentLimits {
         iterations: config.descent_iterations,
         evaluations: config.descent_evaluations,

@@ -40,6 +40,7 @@
 //! same `T` is a relative change of `n`. Measured against each other in
 //! results/sls-anneal-bench.md.
 
+use crate::registry::Algorithm;
 use crate::search::{Search, Stop};
 use crate::validate::{ConfigError, check_at_least, check_count};
 use rand::RngExt;
@@ -190,7 +191,7 @@ pub fn acceptance_probability(
 
 /// Figure 5: perturbs `from` at temperature `t` into `to`, clamped to the box. `natural_lo` and
 /// `natural_hi` are the box in natural units (only read by [`Perturbation::Paper`]).
-pub(crate) fn perturb<S: Search>(
+pub(crate) fn perturb<S: Search + ?Sized>(
     search: &mut S,
     kind: Perturbation,
     natural_lo: &[f64],
@@ -224,7 +225,7 @@ pub(crate) struct Annealer {
 
 impl Annealer {
     /// Buffers for `search`'s dimension.
-    pub(crate) fn new<S: Search>(search: &S) -> Self {
+    pub(crate) fn new<S: Search + ?Sized>(search: &S) -> Self {
         let n = search.dim();
         let natural_lo = (0..n)
             .map(|i| search.natural_value(i, search.lower()[i]))
@@ -241,7 +242,7 @@ impl Annealer {
 
     /// Figure 4 from `s` (RMSE `f`, `+inf` if unknown): `s` receives the last accepted candidate
     /// and its RMSE is returned.
-    pub(crate) fn anneal<S: Search>(
+    pub(crate) fn anneal<S: Search + ?Sized>(
         &mut self,
         config: &SaConfig,
         search: &mut S,
@@ -290,8 +291,20 @@ impl Annealer {
     }
 }
 
+impl Algorithm for SaConfig {
+    const KIND: &'static str = "sa";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        SaConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs the standalone SA: anneal from a random pick, then again from a new one.
-pub fn run<S: Search>(config: &SaConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &SaConfig, search: &mut S) -> Result<(), Stop> {
     let mut annealer = Annealer::new(search);
     let mut s = vec![0.0; search.dim()];
     loop {

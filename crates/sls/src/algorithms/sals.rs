@@ -24,6 +24,7 @@
 
 use crate::algorithms::sa::{Annealer, SaConfig};
 use crate::objective::Rows;
+use crate::registry::Algorithm;
 use crate::search::{DescentLimits, Search, Stop};
 use crate::validate::{ConfigError, check_count};
 use serde::{Deserialize, Serialize};
@@ -104,8 +105,20 @@ pub(crate) fn descent_rows(sample_size: usize, n: usize) -> Rows {
     }
 }
 
+impl Algorithm for SalsConfig {
+    const KIND: &'static str = "sals";
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        SalsConfig::validate(self)
+    }
+
+    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
+        run(self, search)
+    }
+}
+
 /// Runs SALS.
-pub fn run<S: Search>(config: &SalsConfig, search: &mut S) -> Result<(), Stop> {
+pub fn run<S: Search + ?Sized>(config: &SalsConfig, search: &mut S) -> Result<(), Stop> {
     let mut annealer = Annealer::new(search);
     let mut s = vec![0.0; search.dim()];
     let rows = config.rows(search.sample_count());
