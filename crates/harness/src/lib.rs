@@ -10,6 +10,8 @@
 //! - [`store`]: the results file `trials.jsonl`, with an advisory lock per folder, appends
 //!   per line, resume, torn-line recovery, packed `.gz` read transparently, refusal of a
 //!   different spec or different data; and atomic writes of derived files.
+//! - [`prepare`]: the one step before a run: lock, read the results once, build each instance
+//!   once, resolve the best-known RMSEs.
 //! - [`run`]: the parallel runner (rayon), data sets built once and shared.
 //! - [`stats`]: run-time distributions (Kaplan-Meier), quantiles, ERT with bootstrap, pairwise
 //!   tests (Mann-Whitney, KS, log-rank) with Holm's correction, tables.
@@ -22,8 +24,11 @@
 //! - [`instance`]: building an experiment's data sets and layouts.
 //! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
 //! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
+//! - Leaf modules (importing nothing of the crate) holding the plain types the others share:
+//!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`].
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
+//! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
 //! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
 
 /// Where `run` writes when no `--out` is given: `runs/<spec file stem>/`. The repository's
@@ -42,12 +47,17 @@ pub const PROGRAM_VERSION: &str = concat!(
 );
 
 pub mod best_known;
+pub mod best_known_record;
+pub mod choice;
+pub mod duration;
 pub mod export;
 pub mod figures;
 pub mod fit;
 pub mod instance;
 pub mod machine;
 pub mod merge;
+pub mod params;
+pub mod prepare;
 pub mod progress;
 pub mod report;
 pub mod run;
@@ -56,6 +66,7 @@ pub mod shard;
 pub mod spec;
 pub mod stats;
 pub mod store;
+pub mod trial_key;
 pub mod tune;
 
 #[cfg(test)]
