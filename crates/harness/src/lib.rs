@@ -1,11 +1,12 @@
 //! The brdf-sls experiment harness: TOML experiment specs, parallel seeded trials, a
 //! crash-safe results store, run-time distribution statistics and plots.
 //!
-//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`) is a thin layer over this library.
+//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`; built with the default `cli`
+//! feature, the only user of clap) is a thin layer over this library.
 //!
-//! - [`spec`]: the experiment format (documented there) read in stages: raw TOML, validation
-//!   with stated [`spec::limits`], sweep expansion, the trial plan and fingerprint, the
-//!   printed description.
+//! - [`spec`]: experiment specs (the format: `docs/experiment-format.md`) read in stages: the
+//!   TOML as parsed, validation with stated [`spec::limits`], sweep expansion, the resolved
+//!   [`spec::Spec`] with its trial plan and fingerprint, the printed description.
 //! - [`seed`]: stable per-trial seeds, spec fingerprints and data hashes.
 //! - [`store`]: the results file `trials.jsonl`, with an advisory lock per folder, appends
 //!   per line, resume, torn-line recovery, packed `.gz` read transparently, refusal of a
