@@ -21,19 +21,44 @@ fn git(root: &Path, args: &[&str]) -> Option<String> {
         .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
-fn main() {
-    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
+/// The workspace root when this crate sits in it as `crates/harness` (a checkout), else `None`
+/// (a packaged crate, e.g. under `target/package/` or a registry's cache, whose parent
+/// directories belong to some other project's git history, not to this code's).
+fn workspace_root(manifest: &Path) -> Option<PathBuf> {
     let root = manifest.join("../..");
-    let commit = git(&root, &["rev-parse", "--short=12", "HEAD"]);
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    (same(&root.join("crates/harness"), manifest) && root.join("Cargo.toml").is_file())
+        .then_some(root)
+}
+
+/// `<commit>`, `<commit>-modified`, or `unknown` without a checkout or without git.
+fn describe(root: Option<&Path>) -> String {
+    let Some(root) = root else {
+        return "unknown".to_string();
+    };
+    let commit = git(root, &["rev-parse", "--short=12", "HEAD"]);
     let mut status_args = vec!["status", "--porcelain", "--untracked-files=no", "--"];
     status_args.extend(CODE_PATHS);
-    let modified = git(&root, &status_args).map(|s| !s.is_empty());
-    let describe = match (commit, modified) {
+    let modified = git(root, &status_args).map(|s| !s.is_empty());
+    match (commit, modified) {
         (Some(c), Some(true)) => format!("{c}-modified"),
         (Some(c), _) => c,
         _ => "unknown".to_string(),
+    }
+}
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
+    let root = workspace_root(&manifest);
+    println!("cargo:rustc-env=BRDF_SLS_GIT={}", describe(root.as_deref()));
+    let Some(root) = root else {
+        // Nothing to watch: the packaged sources change only with a new package.
+        println!("cargo:rerun-if-changed=build.rs");
+        return;
     };
-    println!("cargo:rustc-env=BRDF_SLS_GIT={describe}");
     // Run again when HEAD moves (checkout, commit) or the code changes. Only existing paths:
     // cargo reruns a build script on every build while one of its paths is missing.
     let watch = |path: PathBuf| {

@@ -19,13 +19,14 @@
 //! (kernels agree to rounding). Runs record it in their session line of `trials.jsonl`, and
 //! `stats` reports it beside every result.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
-use serde::{Deserialize, Serialize};
 use sls::{Budget, DescentLimits, Rows, Search, TrialContext};
 
 use crate::instance::{BuiltInstance, InstanceError};
 use crate::spec::{InstanceSpec, Source, Spec};
+use crate::store::Contents;
 
 /// Random starts per instance.
 pub const STARTS: usize = 32;
@@ -36,19 +37,7 @@ pub const POLISH_ROUNDS: usize = 8;
 /// An absolute target at most this fraction above the best-known RMSE is flagged.
 pub const CLOSE_FRACTION: f64 = 0.01;
 
-/// The best-known RMSE of one instance and how it was found.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BestKnown {
-    /// The lowest full-data RMSE found.
-    pub rmse: f64,
-    /// The RMSE reached from the generating parameters (synthetic instances only).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub from_truth: Option<f64>,
-    /// Random starts descended from.
-    pub starts: usize,
-    /// Their seed.
-    pub seed: u64,
-}
+pub use crate::best_known_record::BestKnown;
 
 /// Computes the best-known RMSE of one built instance (see the module docs).
 pub fn compute(spec: &InstanceSpec, built: &BuiltInstance) -> Result<BestKnown, InstanceError> {
@@ -109,11 +98,35 @@ pub fn resolve(
     spec: &mut Spec,
     known: &BTreeMap<String, BestKnown>,
 ) -> Result<Resolved, InstanceError> {
+    resolve_with(spec, known, |_, inst| {
+        crate::instance::build(inst).map(Cow::Owned)
+    })
+}
+
+/// [`resolve`] with the instances already built (`built[i]` is instance `i`, as
+/// [`crate::instance::build_all`] returns them): those are not built again.
+pub fn resolve_built(
+    spec: &mut Spec,
+    known: &BTreeMap<String, BestKnown>,
+    built: &[BuiltInstance],
+) -> Result<Resolved, InstanceError> {
+    resolve_with(spec, known, |i, inst| match built.get(i) {
+        Some(b) => Ok(Cow::Borrowed(b)),
+        None => crate::instance::build(inst).map(Cow::Owned),
+    })
+}
+
+/// [`resolve`] with `build(i, instance)` giving each instance's data when no value is known.
+fn resolve_with<'b>(
+    spec: &mut Spec,
+    known: &BTreeMap<String, BestKnown>,
+    mut build: impl FnMut(usize, &InstanceSpec) -> Result<Cow<'b, BuiltInstance>, InstanceError>,
+) -> Result<Resolved, InstanceError> {
     let mut out = Resolved::default();
-    for inst in &mut spec.instances {
+    for (i, inst) in spec.instances.iter_mut().enumerate() {
         let bk = match known.get(&inst.name) {
             Some(bk) => bk.clone(),
-            None => match crate::instance::build(inst).and_then(|b| compute(inst, &b)) {
+            None => match build(i, inst).and_then(|b| compute(inst, &b)) {
                 Ok(bk) => bk,
                 Err(e) if inst.relative_targets.is_empty() => {
                     out.notes.push(format!(
@@ -131,28 +144,39 @@ pub fn resolve(
     Ok(out)
 }
 
-/// [`resolve`] before a run into `dir` (what `brdf-sls run` and the Python package's `run`
-/// share): the best-known RMSEs recorded in `dir`'s results when that folder was written by
-/// this spec, else computed. Returns the notes on instances left without one, then the
-/// closeness [`warnings`], one line each.
+/// The best-known RMSEs recorded in `contents` when it was written by `spec` (same
+/// fingerprint), else none.
+pub fn recorded_for(spec: &Spec, contents: Option<&Contents>) -> BTreeMap<String, BestKnown> {
+    let fingerprint = spec.fingerprint();
+    contents
+        .filter(|c| c.header.fingerprint == fingerprint)
+        .map(|c| c.best_known().clone())
+        .unwrap_or_default()
+}
+
+/// [`resolve`] before a run into `dir` (what the Python package's `run` uses; `brdf-sls run`
+/// does the same inside [`crate::prepare`]): the best-known RMSEs recorded in `dir`'s results
+/// when that folder was written by this spec, else computed. Returns [`run_lines`].
 pub fn resolve_for_run(
     spec: &mut Spec,
     dir: Option<&std::path::Path>,
 ) -> Result<Vec<String>, InstanceError> {
-    let fingerprint = spec.fingerprint();
-    let known = dir
-        .and_then(|d| crate::store::read_results(d).ok())
-        .filter(|c| c.header.fingerprint == fingerprint)
-        .map(|c| c.best_known().clone())
-        .unwrap_or_default();
+    let contents = dir.and_then(|d| crate::store::read_results(d).ok());
+    let known = recorded_for(spec, contents.as_ref());
     let resolved = resolve(spec, &known)?;
+    Ok(run_lines(spec, &resolved))
+}
+
+/// What a run prints after resolving: the notes on instances left without a best-known RMSE,
+/// then the closeness [`warnings`], one line each.
+pub fn run_lines(spec: &Spec, resolved: &Resolved) -> Vec<String> {
     let mut lines: Vec<String> = resolved
         .notes
         .iter()
         .map(|n| format!("note: {n}"))
         .collect();
     lines.extend(warnings(spec));
-    Ok(lines)
+    lines
 }
 
 /// What [`resolve`] used and what it could not do.

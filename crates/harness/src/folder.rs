@@ -88,6 +88,20 @@ impl Folder {
         Ok(Folder::new(path, spec, contents, resolved.notes))
     }
 
+    /// The folder a run just wrote, from what the run holds in memory (the results file is not
+    /// read again): its header, sessions and the plan's records.
+    pub fn from_run(dir: &Path, spec: Spec, outcome: &crate::run::RunOutcome) -> Folder {
+        let contents = Contents {
+            header: outcome.header.clone(),
+            sessions: outcome.sessions.clone(),
+            records: outcome.records.clone(),
+            good_len: 0,
+            torn: None,
+            duplicates: Vec::new(),
+        };
+        Folder::new(dir, spec, contents, Vec::new())
+    }
+
     /// A folder of results already in memory (e.g. just written by a run with `spec`), with
     /// `notes` and those on a torn line and missing trials.
     pub fn new(dir: &Path, spec: Spec, contents: Contents, mut notes: Vec<String>) -> Folder {

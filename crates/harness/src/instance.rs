@@ -1,5 +1,6 @@
 //! Building instances: data sets (synthetic or read from files) and parameter layouts.
 
+use std::cell::Cell;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -80,8 +81,24 @@ pub fn load_file(spec: &FileSpec, path: &Path) -> Result<(DataSet, FilterReport)
     }
 }
 
+thread_local! {
+    static BUILDS: Cell<usize> = const { Cell::new(0) };
+}
+
+/// How many instances this thread has built ([`build`] calls). A diagnostic: tests pin that a
+/// run builds each instance once.
+pub fn builds_on_this_thread() -> usize {
+    BUILDS.with(Cell::get)
+}
+
+/// Builds every instance of `spec`, in order.
+pub fn build_all(spec: &crate::spec::Spec) -> Result<Vec<BuiltInstance>, InstanceError> {
+    spec.instances.iter().map(build).collect()
+}
+
 /// Builds one instance's data set and layout.
 pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
+    BUILDS.with(|b| b.set(b.get() + 1));
     let layout = spec.model.layout().map_err(|source| InstanceError::Model {
         instance: spec.name.clone(),
         source,

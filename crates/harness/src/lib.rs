@@ -1,15 +1,18 @@
 //! The brdf-sls experiment harness: TOML experiment specs, parallel seeded trials, a
 //! crash-safe results store, run-time distribution statistics and plots.
 //!
-//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`) is a thin layer over this library.
+//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`; built with the default `cli`
+//! feature, the only user of clap) is a thin layer over this library.
 //!
-//! - [`spec`]: the experiment format (documented there) read in stages: raw TOML, validation
-//!   with stated [`spec::limits`], sweep expansion, the trial plan and fingerprint, the
-//!   printed description.
+//! - [`spec`]: experiment specs (the format: `docs/experiment-format.md`) read in stages: the
+//!   TOML as parsed, validation with stated [`spec::limits`], sweep expansion, the resolved
+//!   [`spec::Spec`] with its trial plan and fingerprint, the printed description.
 //! - [`seed`]: stable per-trial seeds, spec fingerprints and data hashes.
 //! - [`store`]: the results file `trials.jsonl`, with an advisory lock per folder, appends
 //!   per line, resume, torn-line recovery, packed `.gz` read transparently, refusal of a
 //!   different spec or different data; and atomic writes of derived files.
+//! - [`prepare`]: the one step before a run: lock, read the results once, build each instance
+//!   once, resolve the best-known RMSEs.
 //! - [`run`]: the parallel runner (rayon), data sets built once and shared.
 //! - [`stats`]: run-time distributions (Kaplan-Meier), quantiles, ERT with bootstrap, pairwise
 //!   tests (Mann-Whitney, KS, log-rank) with Holm's correction, tables.
@@ -22,8 +25,11 @@
 //! - [`instance`]: building an experiment's data sets and layouts.
 //! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
 //! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
+//! - Leaf modules (importing nothing of the crate) holding the plain types the others share:
+//!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`].
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
+//! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
 //! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
 //! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
 //!   comparisons.
@@ -47,7 +53,10 @@ pub const PROGRAM_VERSION: &str = concat!(
 );
 
 pub mod best_known;
+pub mod best_known_record;
+pub mod choice;
 pub mod compare;
+pub mod duration;
 pub mod export;
 pub mod figures;
 pub mod fit;
@@ -56,6 +65,8 @@ pub mod html;
 pub mod instance;
 pub mod machine;
 pub mod merge;
+pub mod params;
+pub mod prepare;
 pub mod progress;
 pub mod report;
 pub mod run;
@@ -64,6 +75,7 @@ pub mod shard;
 pub mod spec;
 pub mod stats;
 pub mod store;
+pub mod trial_key;
 pub mod tune;
 
 #[cfg(test)]

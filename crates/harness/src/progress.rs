@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// How progress is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ProgressMode {
     /// Bars on a terminal, plain lines otherwise (see the module docs).
     Auto,
@@ -21,6 +21,13 @@ pub enum ProgressMode {
     /// Nothing.
     Quiet,
 }
+
+crate::choice::named_choices!(ProgressMode {
+    Auto => "auto",
+    Bars => "bars",
+    Plain => "plain",
+    Quiet => "quiet",
+});
 
 impl ProgressMode {
     /// Resolves `Auto` for the current process.
@@ -170,7 +177,7 @@ impl Progress {
         let eta = if rate > 0.0 {
             format!(
                 ", ETA {}",
-                crate::spec::human_seconds((self.total - s.total_done) as f64 / rate)
+                crate::duration::human_seconds((self.total - s.total_done) as f64 / rate)
             )
         } else {
             String::new()
@@ -183,7 +190,7 @@ impl Progress {
             .collect();
         format!(
             "[{}] {}/{} trials ({rate:.2}/s{eta}), {} reached the target | {}",
-            crate::spec::human_seconds(el),
+            crate::duration::human_seconds(el),
             s.total_done,
             self.total,
             s.total_ok,

@@ -20,7 +20,9 @@ use crate::machine::{MachineInfo, unix_now};
 use crate::progress::{Progress, ProgressMode};
 use crate::shard::Shard;
 use crate::spec::{PlannedTrial, Spec};
-use crate::store::{FORMAT_VERSION, Header, ResultStore, StoreError, TrialRecord};
+use crate::store::{
+    FORMAT_VERSION, Header, LockedFolder, ResultStore, Session, StoreError, TrialRecord,
+};
 
 /// Runs one trial. Implementations must be deterministic in the trial's seed for the
 /// seeding guarantees to hold (CPU-time cutoffs are the exception: they depend on speed).
@@ -57,15 +59,23 @@ pub struct SlsExecutor {
 impl SlsExecutor {
     /// Builds every instance's data set once (shared read-only by all trials), evaluated with
     /// `kernel` (resolved here; an unavailable kernel is an error), which also becomes the
-    /// solver's process-wide kernel ([`bounded_lm::set_kernel`]).
+    /// solver's process-wide kernel ([`bounded_lm::set_kernel`]). Returns the built instances
+    /// too.
     pub fn new(spec: &Spec, kernel: Kernel) -> Result<(Self, Vec<BuiltInstance>), InstanceError> {
+        let built = crate::instance::build_all(spec)?;
+        Ok((Self::from_built(spec, &built, kernel)?, built))
+    }
+
+    /// The executor of `spec` on instances already built (`built[i]` is instance `i`, as
+    /// [`crate::prepare::prepare`] gives them), evaluated with `kernel` (resolved here), which
+    /// also becomes the solver's process-wide kernel ([`bounded_lm::set_kernel`]).
+    pub fn from_built(
+        spec: &Spec,
+        built: &[BuiltInstance],
+        kernel: Kernel,
+    ) -> Result<Self, InstanceError> {
         let kernel = kernel.resolve()?;
         let solver_kernel = bounded_lm::set_kernel(kernel)?;
-        let built: Vec<BuiltInstance> = spec
-            .instances
-            .iter()
-            .map(crate::instance::build)
-            .collect::<Result<_, _>>()?;
         let objectives = built
             .iter()
             .zip(&spec.instances)
@@ -80,23 +90,20 @@ impl SlsExecutor {
             data_hashes: spec
                 .instances
                 .iter()
-                .zip(&built)
+                .zip(built)
                 .map(|(i, b)| (i.name.clone(), crate::seed::data_hash(&b.data)))
                 .collect(),
         };
-        Ok((
-            SlsExecutor {
-                objectives,
-                configs: spec
-                    .configurations
-                    .iter()
-                    .map(|c| (c.algorithm.clone(), c.descent))
-                    .collect(),
-                provenance,
-                interrupt: None,
-            },
-            built,
-        ))
+        Ok(SlsExecutor {
+            objectives,
+            configs: spec
+                .configurations
+                .iter()
+                .map(|c| (c.algorithm.clone(), c.descent))
+                .collect(),
+            provenance,
+            interrupt: None,
+        })
     }
 }
 
@@ -216,6 +223,10 @@ pub struct RunOutcome {
     pub resumed: usize,
     /// Trials of the plan still missing (after `limit`).
     pub missing: usize,
+    /// The results file's header (the first session's; this session's for a new file).
+    pub header: Header,
+    /// The results file's sessions, this one last.
+    pub sessions: Vec<Session>,
     /// Notes from the store (torn line recovered, old file moved).
     pub notes: Vec<String>,
     /// Wall seconds of this session's trials.
@@ -264,12 +275,23 @@ pub fn run_shard<E: Executor>(
     options: &RunOptions,
     executor: &E,
 ) -> Result<RunOutcome, RunError> {
+    run_locked(spec, shard, LockedFolder::lock(out)?, options, executor)
+}
+
+/// [`run_shard`] into a folder already locked and read ([`crate::prepare::prepare`]): the
+/// results file is not read again.
+pub fn run_locked<E: Executor>(
+    spec: &Spec,
+    shard: Option<Shard>,
+    folder: LockedFolder,
+    options: &RunOptions,
+    executor: &E,
+) -> Result<RunOutcome, RunError> {
     let threads = options.threads.max(1);
     let mut header = header_for(spec, threads, &executor.provenance());
     header.shard = shard;
     if !options.fresh
-        && crate::store::results_file(out).exists()
-        && let Ok(existing) = crate::store::read_results(out)
+        && let Some(existing) = folder.contents()
         && existing.header.fingerprint == header.fingerprint
         && existing.header.shard != shard
     {
@@ -277,13 +299,17 @@ pub fn run_shard<E: Executor>(
             s.map_or_else(|| "the whole plan".to_string(), |s| format!("shard {s}"))
         };
         return Err(RunError::ShardMismatch {
-            dir: out.to_path_buf(),
+            dir: folder.dir().to_path_buf(),
             found: show(existing.header.shard),
             requested: show(shard),
         });
     }
     let machine = header.machine.clone();
-    let opened = ResultStore::open(out, header, options.fresh)?;
+    let file_header = match folder.contents() {
+        Some(existing) if !options.fresh => existing.header.clone(),
+        _ => header.clone(),
+    };
+    let opened = ResultStore::open_locked(folder, header, options.fresh)?;
     let plan = match shard {
         Some(s) => s.select(spec.trials_plan()),
         None => spec.trials_plan(),
@@ -399,6 +425,8 @@ pub fn run_shard<E: Executor>(
         new_trials,
         resumed: done.len(),
         missing: missing_after,
+        header: file_header,
+        sessions: opened.sessions,
         notes: opened.notes,
         wall_seconds,
         machine,

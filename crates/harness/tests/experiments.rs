@@ -29,7 +29,7 @@ fn shipped_experiments_are_valid() {
         n += 1;
     }
     assert!(n >= 4, "found {n} experiments");
-    // The embedded default is the file on disk.
+    // The crate's embedded copy of the default is the user-facing file, byte for byte.
     let on_disk = std::fs::read_to_string(dir.join("default.toml")).unwrap();
     assert_eq!(on_disk, harness::spec::DEFAULT_SPEC);
 }

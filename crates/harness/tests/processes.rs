@@ -144,8 +144,12 @@ fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
     .unwrap();
     let mut first = command(dir, "shared").spawn().unwrap();
     let lock = dir.join("shared/.lock");
+    let results = dir.join("shared").join(harness::store::TRIALS_FILE);
     let started = Instant::now();
-    while std::fs::read_to_string(&lock).map_or(true, |t| t.trim().is_empty())
+    // The lock is taken before the instances are built; wait for the results file too, so the
+    // first run is writing trials when the second starts.
+    while (std::fs::read_to_string(&lock).map_or(true, |t| t.trim().is_empty())
+        || !results.exists())
         && started.elapsed() < Duration::from_secs(60)
     {
         std::thread::sleep(Duration::from_millis(2));

@@ -165,7 +165,14 @@ fn elites_and_validation_spec() {
             .contains("not a tuned parameter")
     );
 
-    let text = validation_spec(TINY_TUNE, &s, t, &elites, "tiny-tune-validation").unwrap();
+    let text = validation_spec(
+        TINY_TUNE,
+        &s.tuning_source(&t.algorithm).unwrap(),
+        t,
+        &elites,
+        "tiny-tune-validation",
+    )
+    .unwrap();
     let v = Spec::parse(&text, "v.toml", "v", Path::new(".")).unwrap();
     assert!(v.tune.is_none());
     assert_eq!(v.instance_names(), ["s5"]);

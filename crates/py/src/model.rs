@@ -14,8 +14,9 @@ use crate::data::{PyDataSet, dataset_from_arrays};
 use crate::support::{enum_value, input_err, to_python};
 
 /// Parameters from Python: a paper name ("tuning", "cross", "paper-bluepaint",
-/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}` or
-/// its JSON text (the `json:` line of `brdf-sls fit`), checked against the model's box.
+/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}`, its
+/// JSON text (the `json:` line of `brdf-sls fit`) or `"@FILE"` holding that JSON; read by
+/// `harness::params` (what `--params` and specs use) and checked against the model's box.
 pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
     let text: String = if p.is_instance_of::<PyString>() {
         p.extract()?
@@ -28,21 +29,9 @@ pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
             p.get_type().name()?
         )));
     };
-    let s = text.trim();
-    let params = match brdf_model::named_params(s) {
-        Some(n) => n,
-        None => serde_json::from_str::<BrdfParams>(s).map_err(|e| {
-            input_err(format!(
-                "`{s}`: not a known name ({}) nor JSON parameters such as \
-                 {{\"kd\":0.15,\"lobes\":[{{\"cx\":-1,\"cy\":0.8,\"cz\":0.96,\"n\":20,\"pan_deg\":45}}]}} ({e})",
-                brdf_model::NAMED_PARAMS.join(", ")
-            ))
-        })?,
-    };
-    params
-        .validate()
-        .map_err(|e| input_err(format!("`{s}`: {e}")))?;
-    Ok(params)
+    harness::params::parse_params("params", harness::params::ParamsInput::Text(&text))
+        .map(|g| g.params)
+        .map_err(input_err)
 }
 
 /// The parameters of a paper name ("tuning", "cross", ...) as a dict.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use harness::spec::{DataFormat, FileSpec};
 
-use super::values::enum_value;
+use super::values::{choice, enum_value};
 
 /// Where a data set comes from and how it is filtered. The defaults are the data policy every
 /// command shares, `run` included: non-finite values and samples below the horizon are dropped,
@@ -16,7 +16,7 @@ pub struct DataArgs {
     /// Data file: Cornell .brdf, CSV, or MERL binary.
     pub data: PathBuf,
     /// File format (default: from the extension).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<DataFormat>(DataFormat::NAMES))]
     pub format: Option<DataFormat>,
     /// Cornell wavelength in nm.
     #[arg(long, default_value_t = brdf_model::DEFAULT_WAVELENGTH_NM)]

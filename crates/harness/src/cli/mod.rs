@@ -128,7 +128,7 @@ pub struct RunArgs {
     pub kernel: Option<brdf_model::Kernel>,
     /// Progress display: auto (bars on a terminal unless CI=true, else plain lines), bars,
     /// plain, quiet.
-    #[arg(long, value_enum, default_value = "auto")]
+    #[arg(long, value_parser = values::choice::<ProgressMode>(ProgressMode::NAMES), default_value = "auto")]
     pub progress: ProgressMode,
 }
 
@@ -195,7 +195,7 @@ pub struct BenchArgs {
     pub out: Option<PathBuf>,
     /// Progress display of the searches: auto (bars on a terminal unless CI=true, else plain
     /// lines), bars, plain, quiet.
-    #[arg(long, value_enum, default_value = "auto")]
+    #[arg(long, value_parser = values::choice::<ProgressMode>(ProgressMode::NAMES), default_value = "auto")]
     pub progress: ProgressMode,
 }
 

@@ -18,7 +18,7 @@ pub struct TrialArgs {
     #[arg(long)]
     pub spec: PathBuf,
     /// What the cost measures (default: the spec's tune.cost, else time).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = crate::cli::values::choice::<CostKind>(CostKind::NAMES))]
     pub cost: Option<CostKind>,
     /// Per-trial cutoff in CPU seconds (time, rmse) or sample-evaluations (evaluations)
     /// (default: tune.cutoff, else from [budget]).

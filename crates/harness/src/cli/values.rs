@@ -1,8 +1,12 @@
 //! Parsers of flag values, shared by every command: one for `NAME=VALUE` assignments, one for
-//! parameter sets (`tuning`, JSON or `@FILE`), one for lobes, and one for the library's enums
-//! (by their serde names, so no enum is mirrored here).
+//! parameter sets (`tuning`, JSON or `@FILE`; the library's reader), one for lobes, and one for the library's enums
+//! (by their serde names, so no enum is mirrored here), and [`choice`] for the library's
+//! named choices.
+
+use std::str::FromStr;
 
 use brdf_model::{BrdfParams, Lobe};
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use serde::de::DeserializeOwned;
 
 /// A library enum by its serde name (`anisotropic`, `log1p`, `green`, ...).
@@ -11,6 +15,16 @@ pub fn enum_value<T: DeserializeOwned>(s: &str) -> Result<T, String> {
     let de: serde::de::value::StrDeserializer<'_, serde::de::value::Error> =
         s.trim().into_deserializer();
     T::deserialize(de).map_err(|e| e.to_string())
+}
+
+/// A library enum chosen by name from `names` (listed in the help and in the error of any
+/// other value), parsed with its `FromStr`: the clap glue of [`harness::choice`].
+pub fn choice<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
+where
+    T: FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
 }
 
 /// Splits `NAME=VALUE` at the first `=`; both sides trimmed, the name non-empty.
@@ -56,45 +70,12 @@ pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {
 }
 
 /// A parameter set: a paper name (`tuning`, `cross`, ...), JSON as printed on the `json:` line
-/// of `brdf-sls fit`, or `@FILE` holding such JSON. The result is checked against the model's
-/// box (finite values, Table 1 bounds).
+/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`harness::params`] (checked
+/// against the model's box).
 pub fn params(s: &str) -> Result<BrdfParams, String> {
-    let s = s.trim();
-    let p = if let Some(n) = brdf_model::named_params(s) {
-        n
-    } else if let Some(file) = s.strip_prefix('@') {
-        let text = read_small_file(file)?;
-        serde_json::from_str::<BrdfParams>(text.trim()).map_err(|e| {
-            format!("{file}: not JSON parameters as printed by `brdf-sls fit` ({e})")
-        })?
-    } else {
-        serde_json::from_str::<BrdfParams>(s).map_err(|e| {
-            format!(
-                "`{s}`: not a known name ({}) nor JSON parameters such as \
-                 {{\"kd\":0.15,\"lobes\":[{{\"cx\":-1,\"cy\":0.8,\"cz\":0.96,\"n\":20,\"pan_deg\":45}}]}} ({e})",
-                brdf_model::NAMED_PARAMS.join(", ")
-            )
-        })?
-    };
-    p.validate().map_err(|e| format!("`{s}`: {e}"))?;
-    Ok(p)
-}
-
-/// Reads a parameter file, refusing anything larger than a parameter set could be.
-fn read_small_file(file: &str) -> Result<String, String> {
-    use std::io::Read;
-    const MAX: u64 = 1 << 20;
-    let f = std::fs::File::open(file).map_err(|e| format!("{file}: {e}"))?;
-    let mut text = String::new();
-    f.take(MAX + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| format!("{file}: {e}"))?;
-    if text.len() as u64 > MAX {
-        return Err(format!(
-            "{file}: larger than {MAX} bytes; not a parameter file"
-        ));
-    }
-    Ok(text)
+    harness::params::parse_params("--params", harness::params::ParamsInput::Text(s))
+        .map(|g| g.params)
+        .map_err(|e| e.to_string())
 }
 
 /// A lobe `CX,CY,CZ,N[,PAN_DEG]`.
@@ -182,6 +163,26 @@ mod tests {
         );
         assert!(enum_value::<brdf_model::LobeKind>("round").is_err());
         assert!("1,2".parse::<Triple>().is_err());
+        let cmd =
+            clap::Command::new("t").arg(clap::Arg::new("p").long("p").value_parser(choice::<
+                harness::progress::ProgressMode,
+            >(
+                harness::progress::ProgressMode::NAMES,
+            )));
+        let m = cmd
+            .clone()
+            .try_get_matches_from(["t", "--p", "plain"])
+            .unwrap();
+        assert_eq!(
+            m.get_one::<harness::progress::ProgressMode>("p"),
+            Some(&harness::progress::ProgressMode::Plain)
+        );
+        let e = cmd.try_get_matches_from(["t", "--p", "loud"]).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("[possible values: auto, bars, plain, quiet]"),
+            "{e}"
+        );
         assert_eq!("1,2,3".parse::<Triple>().unwrap(), Triple([1.0, 2.0, 3.0]));
     }
 }

@@ -1,17 +1,18 @@
 //! `brdf-sls run`: run or resume an experiment, then write its statistics, table and plots.
 
 use anyhow::{Context, Result};
-use harness::run::{Executor, RunOptions, SlsExecutor, default_threads, run_shard};
+use harness::prepare::{PrepareError, prepare};
+use harness::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
 use harness::spec::Spec;
-use harness::store::read_results;
 
-use super::shared::{default_out, load_spec, resolve_best_known};
+use super::shared::{default_out, load_spec};
 use super::{input_error, note, say};
 use crate::cli::RunArgs;
 
-/// `brdf-sls run`.
+/// `brdf-sls run`: checks the flags, [`prepare`]s (lock, one read of the results, each instance
+/// built once, best-known RMSEs), runs, then writes statistics and plots.
 pub fn run(a: RunArgs) -> Result<()> {
-    let mut spec = match &a.spec {
+    let spec = match &a.spec {
         Some(p) => load_spec(p)?,
         None => Spec::default_experiment(),
     };
@@ -22,11 +23,19 @@ pub fn run(a: RunArgs) -> Result<()> {
             None => base,
         }
     });
-    resolve_best_known(&mut spec, Some(&out))?;
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     if threads == 0 {
         return Err(input_error("--threads must be at least 1"));
     }
+    let kernel = a.kernel.unwrap_or(spec.kernel);
+    let prepared = prepare(spec, &out).map_err(|e| match e {
+        PrepareError::Store(e) => anyhow::Error::new(e),
+        PrepareError::Instance(e) => anyhow::Error::new(e).context("building the instances"),
+    })?;
+    for line in &prepared.notes {
+        note!("{line}");
+    }
+    let spec = &prepared.spec;
     note!("{}", spec.describe(threads));
     note!("results: {}", out.display());
     let machine = harness::machine::MachineInfo::current(threads);
@@ -36,15 +45,15 @@ pub fn run(a: RunArgs) -> Result<()> {
         machine.logical_cpus,
         threads
     );
-    let kernel = a.kernel.unwrap_or(spec.kernel);
-    let (executor, built) = SlsExecutor::new(&spec, kernel).context("building the instances")?;
+    let executor =
+        SlsExecutor::from_built(spec, &prepared.built, kernel).context("building the instances")?;
     let provenance = executor.provenance();
     note!(
         "evaluation kernel: {}, solver kernel: {}",
         provenance.kernel,
         provenance.solver_kernel
     );
-    for (i, b) in spec.instances.iter().zip(&built) {
+    for (i, b) in spec.instances.iter().zip(&prepared.built) {
         let rep = b
             .filter_report
             .map(|r| format!(" ({r})"))
@@ -64,7 +73,7 @@ pub fn run(a: RunArgs) -> Result<()> {
             spec.trials_plan().len()
         );
     }
-    let outcome = run_shard(&spec, a.shard, &out, &options, &executor)
+    let outcome = run_locked(spec, a.shard, prepared.folder, &options, &executor)
         .with_context(|| format!("running experiment `{}`", spec.name))?;
     for n in &outcome.notes {
         note!("note: {n}");
@@ -84,25 +93,21 @@ pub fn run(a: RunArgs) -> Result<()> {
             String::new()
         }
     );
-    let contents = read_results(&out).context("reading back the results")?;
-    let report = harness::report::write_report(
-        &spec,
-        &outcome.records,
-        &contents.sessions,
-        &out,
-        !a.no_plots,
-    )
-    .context("writing statistics and plots")?;
+    let report =
+        harness::report::write_report(spec, &outcome.records, &outcome.sessions, &out, !a.no_plots)
+            .context("writing statistics and plots")?;
     let mut written = report.files.len();
     if !a.no_plots {
-        let folder = harness::folder::Folder::new(&out, spec, contents, Vec::new());
+        let folder = harness::folder::Folder::from_run(&out, spec.clone(), &outcome);
         super::report::write_report_page(&[folder], &out.join("report.html"))?;
         written += 1;
     }
     say!("{}", report.table);
-    say!(
-        "wrote {written} files to {} (statistics: stats.csv, tests.csv; plots: plots/; page: report.html)",
-        out.display()
-    );
+    let what = if a.no_plots {
+        "statistics: stats.csv, tests.csv"
+    } else {
+        "statistics: stats.csv, tests.csv; plots: plots/; page: report.html"
+    };
+    say!("wrote {written} files to {} ({what})", out.display());
     Ok(())
 }

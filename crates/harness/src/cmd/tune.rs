@@ -222,7 +222,13 @@ pub fn tune(a: TuneArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("reading irace's elites: {e}"))?;
     write(&out.join("elites.csv"), &elites_csv(&tune, &elites))?;
     let name = format!("{}-validation", spec.name);
-    let text = validation_spec(&spec.text, &spec, &tune, &elites, &name)
+    let source = spec.tuning_source(&tune.algorithm).ok_or_else(|| {
+        anyhow::anyhow!(
+            "writing the validation spec: no configuration labelled `{}`",
+            tune.algorithm
+        )
+    })?;
+    let text = validation_spec(&spec.text, &source, &tune, &elites, &name)
         .map_err(|e| anyhow::anyhow!("writing the validation spec: {e}"))?;
     let stem = a
         .spec

@@ -2,6 +2,8 @@
 
 use sls::Budget;
 
+use crate::duration::human_seconds;
+
 use super::{DataFormat, Source, Spec};
 
 impl Spec {
@@ -118,19 +120,4 @@ pub fn budget_text(b: &Budget) -> String {
         parts.push(format!("{e} sample-evaluations"));
     }
     parts.join(", ")
-}
-
-/// Seconds as "1h 02m", "3m 05s" or "12.3 s".
-pub fn human_seconds(s: f64) -> String {
-    if s >= 3600.0 {
-        format!(
-            "{}h {:02}m",
-            (s / 3600.0) as u64,
-            ((s % 3600.0) / 60.0) as u64
-        )
-    } else if s >= 60.0 {
-        format!("{}m {:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
-    } else {
-        format!("{s:.1} s")
-    }
 }

@@ -1,78 +1,16 @@
-//! Experiment specs: the TOML format, validation, sweep expansion and the trial plan.
+//! Experiment specs: one TOML file per experiment, read in stages.
 //!
-//! # Format
+//! The format (every key, its default and its rules) is documented once, in
+//! `docs/experiment-format.md`; `experiments/default.toml` is a complete commented example.
 //!
-//! An experiment is one TOML file. Unknown keys anywhere are errors naming the key and its line;
-//! so are values of the wrong type or out of range. Relative data paths resolve against the
-//! directory of the spec file. A complete commented example is `experiments/default.toml`.
-//!
-//! ```toml
-//! name = "tuning-aed-sweep"      # optional; default: the spec file's stem
-//! description = "free text"      # optional
-//! seed = 1                       # master seed (trial seeds are derived from it)
-//! trials = 50                    # trials per (instance, configuration)
-//! threads = 2                    # optional default for --threads (default: all CPUs)
-//! kernel = "auto"                # evaluation kernel: auto | avx512 | avx2 | portable | scalar
-//!
-//! [budget]                       # at least one limit
-//! cpu_seconds = 10.0             # CPU-time cutoff per trial (worker thread clock)
-//! evaluations = 2e9              # optional sample-evaluation cutoff per trial
-//!
-//! [[instance]]                   # one or more
-//! name = "tuning"
-//! targets = [0.11, 0.115, 0.12]  # trials run to the lowest; the others come from the traces
-//! #                              # an entry { relative = 0.01 } is 1% above the best-known RMSE
-//! [instance.synthetic]           # either synthetic ...
-//! params = "tuning"              # "tuning", "cross", "paper-bluepaint", "pbrt-bluepaint", or
-//!                                # { kd = 0.15, lobes = [{ cx = -1, cy = 0.8, cz = 0.96, n = 20, pan_deg = 45 }] }
-//! samples = 10000                # default 10000
-//! sigma = 0.1                    # Gaussian noise; default 0
-//! seed = 7                       # instance seed; default 1
-//! # [instance.file]              # ... or a data file
-//! # path = "data/krylon_blue.brdf"   # relative to this spec file
-//! # format = "cornell"           # cornell | csv | merl (default: from the extension)
-//! # wavelength = 550             # Cornell: nm (default 550)
-//! # channel = "green"            # MERL: red | green | blue (default green)
-//! # max_value = 1.0              # drop values above (the paper used 1)
-//! # drop_negative = false        # default false (noisy data has negative values)
-//! # drop_below_horizon = true    # default true
-//! [instance.model]               # the model shape to fit (all optional)
-//! lobes = 1                      # default: the synthetic params' lobe count, else 1
-//! kind = "anisotropic"           # or "isotropic" (Cxy, Cz, n; no pan)
-//! # kinds = ["anisotropic", "isotropic"]   # per lobe, overrides lobes/kind
-//! exponent = "log1p"             # optimiser coordinate of n: "log1p" (default) or "raw"
-//! starts = "coordinate"          # exponent in random starts: "coordinate" (default: uniform in
-//!                                # the coordinate above), "uniform" (in n), "log-uniform"
-//! fixed = { "lobe1.pan" = 45.0 } # parameters held fixed
-//! bounds = { "lobe1.n" = [0.0, 200.0] }   # bounds overriding Table 1
-//!
-//! [[algorithm]]                  # one or more
-//! label = "AED"                  # default: the kind in capitals
-//! kind = "aed"                   # aed | aers | rpls | ds | sa | sals | avg | asa (sls::AlgorithmConfig)
-//! phi = 1.4                      # any parameter of that algorithm; missing = paper default
-//! descent = "default"            # the descents' solver: default | gauss-newton | n2fb (the
-//!                                # paper's PORT N2FB configuration); not sweepable
-//! [algorithm.sweep]              # optional: one configuration per value (cartesian product)
-//! rho0 = [10, 25, 50]            # a list, or
-//! # phi = { from = 1.0, to = 2.0, steps = 5, scale = "linear" }   # linear | log; integer
-//! #                              # endpoints give integer values
-//!
-//! [plots]                        # optional
-//! draw = ["rtd", "rtd-evaluations", "sweep", "trace", "scatter", "error-time", "ecdf"]
-//! formats = ["png", "svg"]
-//! trace_trials = 3               # trials per configuration in the trace plot
-//! error_range = [0.11, 0.2]      # target range of the error-time and ECDF plots
-//! error_steps = 25
-//!
-//! [stats]                        # optional
-//! bootstrap = 1000               # bootstrap resamples for the ERT
-//! ```
-//!
-//! A swept configuration is labelled by its algorithm label and the swept values, e.g.
-//! `"AED phi=1.2"`; labels must be unique. The fingerprint that guards the results file covers
-//! everything that changes a trial's result (seed, budget, instances, their lowest target, the
-//! expanded configurations with all defaults filled in) but not the trial count, the other
-//! targets, plots or statistics options: raising `trials` later resumes and adds trials.
+//! 1. `parsed`: the TOML as written, into serde structs (`parsed::ParsedSpec`);
+//!    unknown keys and wrong types are errors naming the key and its line.
+//! 2. `validate`: values, sizes ([`limits`]), instances and models checked, defaults filled in.
+//! 3. `sweep`: each `[[algorithm]]` entry expanded into labelled [`Configuration`]s.
+//! 4. `plan`: the [`Spec`] (the resolved experiment), its trial plan and the fingerprint
+//!    guarding a results file (everything that changes a trial's result, not the trial count,
+//!    the other targets, plots or statistics options).
+//! 5. `describe`: the readable plan `brdf-sls check` and `run` print.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -83,16 +21,19 @@ use sls::{AlgorithmConfig, Budget};
 
 mod describe;
 pub mod limits;
+mod parsed;
 mod plan;
-mod raw;
 mod sweep;
 mod validate;
 
-pub use describe::{budget_text, human_seconds};
+pub use crate::duration::human_seconds;
+pub use describe::budget_text;
 pub use sweep::format_value;
 
-/// The built-in default experiment (experiments/default.toml).
-pub const DEFAULT_SPEC: &str = include_str!("../../../../experiments/default.toml");
+/// The built-in default experiment. The crate embeds its own copy (`src/spec/default.toml`, so
+/// the packaged crate is self-contained); the repository's user-facing copy,
+/// `experiments/default.toml`, is tested to be byte-identical (`tests/experiments.rs`).
+pub const DEFAULT_SPEC: &str = include_str!("default.toml");
 
 /// A spec error: file, line (when known) and what is wrong.
 #[derive(Debug, thiserror::Error)]
@@ -136,7 +77,7 @@ impl SpecError {
 }
 
 /// Data file format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DataFormat {
     /// Cornell `.brdf` text.
@@ -146,6 +87,12 @@ pub enum DataFormat {
     /// MERL binary.
     Merl,
 }
+
+crate::choice::named_choices!(DataFormat {
+    Cornell => "cornell",
+    Csv => "csv",
+    Merl => "merl",
+});
 
 impl DataFormat {
     /// Guesses the format from a file extension (`.brdf`, `.csv`, `.binary`/`.merl`).
@@ -295,8 +242,8 @@ pub struct InstanceSpec {
     /// ascending.
     pub relative_targets: Vec<f64>,
     /// The best-known RMSE of this instance, once computed or read back
-    /// ([`crate::best_known`]).
-    pub best_known: Option<crate::best_known::BestKnown>,
+    /// ([`crate::best_known`] computes it).
+    pub best_known: Option<crate::best_known_record::BestKnown>,
     /// The data.
     pub source: Source,
     /// The model to fit.
@@ -342,7 +289,7 @@ impl InstanceSpec {
     }
 
     /// Sets the best-known RMSE and resolves the relative targets against it (idempotent).
-    pub fn resolve_targets(&mut self, known: crate::best_known::BestKnown) {
+    pub fn resolve_targets(&mut self, known: crate::best_known_record::BestKnown) {
         let best_known = known.rmse;
         self.best_known = Some(known);
         let mut all = self.absolute_targets.clone();
@@ -446,7 +393,9 @@ impl Default for StatsSpec {
     }
 }
 
-/// A validated experiment.
+/// A resolved experiment: validated, defaults filled in, sweeps expanded into configurations
+/// (what everything after reading runs on). The TOML as written is a different type, the
+/// private `parsed::ParsedSpec`, and only [`Spec::parse`] turns one into the other.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spec {
     /// Experiment name.
@@ -535,19 +484,19 @@ impl Spec {
     }
 
     /// Parses and validates spec text. `origin` names it in errors, `stem` is the default
-    /// experiment name, `base_dir` resolves relative paths. The stages: `raw` (TOML into
-    /// serde structs), `validate` (values, sizes, instances and models), `sweep`
+    /// experiment name, `base_dir` resolves relative paths. The stages: `parsed` (TOML into
+    /// serde structs, as written), `validate` (values, sizes, instances and models), `sweep`
     /// (configurations), then the plan's size.
     pub fn parse(text: &str, origin: &str, stem: &str, base_dir: &Path) -> Result<Spec, SpecError> {
-        let raw = raw::parse(text, origin)?;
+        let parsed = parsed::parse(text, origin)?;
         let cx = validate::Ctx { text, origin };
-        let budget = validate::budget(&cx, raw.budget)?;
-        validate::counts(&cx, raw.trials, raw.threads)?;
-        let instances = validate::instances(&cx, raw.instances, base_dir)?;
-        let configurations = sweep::configurations(&cx, raw.algorithms)?;
-        validate::options(&cx, &raw.plots, &raw.stats)?;
-        validate::plan_size(&cx, raw.trials, instances.len(), configurations.len())?;
-        if raw.tune.is_some()
+        let budget = validate::budget(&cx, parsed.budget)?;
+        validate::counts(&cx, parsed.trials, parsed.threads)?;
+        let instances = validate::instances(&cx, parsed.instances, base_dir)?;
+        let configurations = sweep::configurations(&cx, parsed.algorithms)?;
+        validate::options(&cx, &parsed.plots, &parsed.stats)?;
+        validate::plan_size(&cx, parsed.trials, instances.len(), configurations.len())?;
+        if parsed.tune.is_some()
             && let Some(i) = instances.iter().find(|i| !i.relative_targets.is_empty())
         {
             return Err(SpecError::Invalid {
@@ -559,7 +508,7 @@ impl Spec {
                 ),
             });
         }
-        let tune = match raw.tune {
+        let tune = match parsed.tune {
             Some(t) => Some(validate::tune(
                 &cx,
                 t,
@@ -570,17 +519,17 @@ impl Spec {
             None => None,
         };
         Ok(Spec {
-            name: validate::name(&cx, raw.name, stem)?,
-            description: raw.description,
-            seed: raw.seed,
-            trials: raw.trials,
-            threads: raw.threads,
-            kernel: raw.kernel,
+            name: validate::name(&cx, parsed.name, stem)?,
+            description: parsed.description,
+            seed: parsed.seed,
+            trials: parsed.trials,
+            threads: parsed.threads,
+            kernel: parsed.kernel,
             budget,
             instances,
             configurations,
-            plots: raw.plots,
-            stats: raw.stats,
+            plots: parsed.plots,
+            stats: parsed.stats,
             tune,
             base_dir: base_dir.to_path_buf(),
             text: text.to_string(),
@@ -608,11 +557,24 @@ impl Spec {
     }
 
     /// The best-known RMSE of every instance that has one, by name (recorded with results).
-    pub fn best_known(&self) -> BTreeMap<String, crate::best_known::BestKnown> {
+    pub fn best_known(&self) -> BTreeMap<String, crate::best_known_record::BestKnown> {
         self.instances
             .iter()
             .filter_map(|i| Some((i.name.clone(), i.best_known.clone()?)))
             .collect()
+    }
+
+    /// What the validation spec after tuning takes from this spec: its name, trials, base
+    /// directory and the configuration labelled `label` (`None` when there is none).
+    pub fn tuning_source(&self, label: &str) -> Option<crate::tune::validation::TuningSource<'_>> {
+        let c = self.configurations.iter().find(|c| c.label == label)?;
+        Some(crate::tune::validation::TuningSource {
+            name: &self.name,
+            trials: self.trials,
+            base_dir: &self.base_dir,
+            algorithm: &c.algorithm,
+            descent: c.descent,
+        })
     }
 
     /// Each instance's targets.
@@ -631,328 +593,4 @@ pub fn known_kinds() -> Vec<&'static str> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    const MINI: &str = r#"
-name = "mini"
-seed = 3
-trials = 4
-
-[budget]
-cpu_seconds = 0.5
-
-[[instance]]
-name = "tuning"
-targets = [0.12, 0.11]
-[instance.synthetic]
-params = "tuning"
-samples = 500
-sigma = 0.1
-
-[[algorithm]]
-label = "AED"
-kind = "aed"
-phi = 1.4
-[algorithm.sweep]
-rho0 = [10, 25]
-
-[[algorithm]]
-kind = "rpls"
-"#;
-
-    fn parse(text: &str) -> Result<Spec, SpecError> {
-        Spec::parse(text, "t.toml", "t", Path::new("/base"))
-    }
-
-    #[test]
-    fn parses_and_expands() {
-        let s = parse(MINI).unwrap();
-        assert_eq!(s.name, "mini");
-        assert_eq!(s.instances[0].targets, vec![0.11, 0.12]);
-        assert_eq!(s.instances[0].model.kinds, vec![LobeKind::Anisotropic]);
-        let labels = s.config_labels();
-        assert_eq!(labels, vec!["AED rho0=10", "AED rho0=25", "RPLS"]);
-        let aed = s.configurations[0]
-            .algorithm
-            .downcast_ref::<sls::AedConfig>();
-        assert_eq!(aed.map(|c| (c.rho0, c.phi)), Some((10, 1.4)));
-        assert_eq!(s.configurations[1].swept, vec![("rho0".to_string(), 25.0)]);
-        assert_eq!(s.trials_plan().len(), 12);
-        let plan = s.describe(2);
-        assert!(plan.contains("12 trials"), "{plan}");
-        assert!(plan.contains("6.0 s CPU"), "{plan}");
-    }
-
-    #[test]
-    fn documented_example_parses() {
-        // The format example in this module's docs is what users copy: keep it valid.
-        let src = include_str!("mod.rs");
-        let start = src.find("//! ```toml\n").unwrap() + "//! ```toml\n".len();
-        let end = start + src[start..].find("//! ```\n").unwrap();
-        let example: String = src[start..end]
-            .lines()
-            .map(|l| {
-                l.strip_prefix("//!")
-                    .unwrap_or(l)
-                    .strip_prefix(' ')
-                    .unwrap_or("")
-            })
-            .collect::<Vec<_>>()
-            .join("\n");
-        let s = parse(&example).unwrap_or_else(|e| panic!("{e}\n{example}"));
-        assert_eq!(s.name, "tuning-aed-sweep");
-        assert_eq!(
-            s.config_labels(),
-            vec!["AED rho0=10", "AED rho0=25", "AED rho0=50"]
-        );
-        assert_eq!(s.instances[0].model.fixed.get("lobe1.pan"), Some(&45.0));
-        assert_eq!(s.budget.sample_evaluations, Some(2_000_000_000));
-    }
-
-    #[test]
-    fn default_experiment_parses() {
-        let s = Spec::default_experiment();
-        assert!(s.configurations.len() >= 3);
-    }
-
-    #[test]
-    fn range_sweeps_linear_log_integer() {
-        let text = MINI.replace(
-            "rho0 = [10, 25]",
-            "phi = { from = 1.0, to = 2.0, steps = 3 }\nrho0 = { from = 10, to = 1000, steps = 3, scale = \"log\" }",
-        );
-        let s = parse(&text).unwrap();
-        let labels = s.config_labels();
-        assert_eq!(labels.len(), 10, "{labels:?}");
-        assert_eq!(labels[0], "AED phi=1 rho0=10");
-        assert_eq!(labels[1], "AED phi=1 rho0=100");
-        assert_eq!(labels[4], "AED phi=1.5 rho0=100");
-        assert_eq!(labels[8], "AED phi=2 rho0=1000");
-        assert_eq!(format_value(1.2), "1.2");
-        assert_eq!(format_value(0.0123456), "0.01235");
-        assert_eq!(format_value(25.0), "25");
-    }
-
-    fn err(text: &str) -> String {
-        parse(text).unwrap_err().to_string()
-    }
-
-    #[test]
-    fn unknown_keys_name_key_and_line() {
-        // Top level: toml's own error names the key and the line.
-        let e = err(&MINI.replace("trials = 4", "trials = 4\ntrails = 5"));
-        assert!(e.contains("trails") && e.contains("line 5"), "{e}");
-        // Inside an instance.
-        let e = err(&MINI.replace("sigma = 0.1", "sigma = 0.1\nnoise = 2"));
-        assert!(e.contains("noise") && e.contains("line 16"), "{e}");
-        // Inside an algorithm (deserialised by sls): the key's own line.
-        let e = err(&MINI.replace("phi = 1.4", "phi = 1.4\nphy = 2.0"));
-        assert!(e.contains("phy") && e.contains("t.toml:21:"), "{e}");
-    }
-
-    #[test]
-    fn bad_values_name_key_and_line() {
-        let e = err(&MINI.replace("phi = 1.4", "phi = \"fast\""));
-        assert!(e.contains("`phi`") && e.contains("t.toml:20:"), "{e}");
-        let e = err(&MINI.replace("phi = 1.4", "phi = 0.5"));
-        assert!(e.contains("`phi`") && e.contains("t.toml:20:"), "{e}");
-        let e = err(&MINI.replace("rho0 = [10, 25]", "rho0 = [10, 0]"));
-        assert!(e.contains("rho0") && e.contains("t.toml:22:"), "{e}");
-        let e = err(&MINI.replace("kind = \"rpls\"", "kind = \"magic\""));
-        assert!(e.contains("magic") && e.contains("t.toml:25:"), "{e}");
-        let e = err(&MINI.replace("params = \"tuning\"", "params = \"tunning\""));
-        assert!(e.contains("tunning") && e.contains("t.toml:13:"), "{e}");
-        let e = err(&MINI.replace("cpu_seconds = 0.5", "cpu_seconds = -1"));
-        assert!(e.contains("cpu_seconds"), "{e}");
-        let e = err(&MINI.replace("samples = 500", "samples = \"many\""));
-        assert!(e.contains("samples") && e.contains("line 14"), "{e}");
-        let e = err(&MINI.replace(
-            "[[algorithm]]\nkind = \"rpls\"",
-            "[[algorithm]]\nkind = \"aed\"\nlabel = \"AED rho0=10\"",
-        ));
-        assert!(e.contains("duplicate configuration label"), "{e}");
-        let e = err(&MINI.replace(
-            "sigma = 0.1",
-            "sigma = 0.1\n[instance.model]\nfixed = { \"lobe1.foo\" = 1.0 }",
-        ));
-        assert!(e.contains("lobe1.foo") && e.contains("t.toml:17:"), "{e}");
-    }
-
-    #[test]
-    fn relative_targets_parse_and_bad_ones_name_the_key() {
-        let s = parse(&MINI.replace(
-            "targets = [0.12, 0.11]",
-            "targets = [{ relative = 0.05 }, 0.12, { relative = 0.01 }]",
-        ))
-        .unwrap();
-        let i = &s.instances[0];
-        assert_eq!(i.relative_targets, vec![0.01, 0.05]);
-        assert_eq!(i.absolute_targets, vec![0.12]);
-        assert!(s.has_unresolved_targets());
-        // The fingerprint holds the relative value as written.
-        assert_ne!(s.fingerprint(), parse(MINI).unwrap().fingerprint());
-        for (entry, needle) in [
-            (
-                "{ relative = -0.01 }",
-                "`targets[0].relative` must be a finite fraction",
-            ),
-            (
-                "{ relative = 0.01, absolute = 0.1 }",
-                "`targets[0]`: `relative` and `absolute`",
-            ),
-            (
-                "{ relative = \"1%\" }",
-                "`targets[0].relative` must be a number",
-            ),
-            ("{ relatve = 0.01 }", "`targets[0]`: unknown key `relatve`"),
-            ("{}", "`targets[0]`: empty table"),
-            ("\"0.1\"", "`targets[0]` must be a number or a table"),
-            (
-                "{ absolute = -1 }",
-                "`targets[0].absolute` must be a finite RMSE",
-            ),
-        ] {
-            let e = err(&MINI.replace("targets = [0.12, 0.11]", &format!("targets = [{entry}]")));
-            assert!(
-                e.contains(needle) && e.contains("t.toml:11:"),
-                "{entry}: {e}"
-            );
-        }
-        let tuned = format!(
-            "{}\n[tune]\ntrain = [\"tuning\"]\ntest = [\"tuning\"]\nbudget = 100\ncost = \"evaluations\"\n[[tune.parameter]]\nname = \"phi\"\ntype = \"real\"\nrange = [1.0, 2.0]\n",
-            MINI.replace("targets = [0.12, 0.11]", "targets = [{ relative = 0.01 }]")
-        );
-        assert!(err(&tuned).contains("relative targets are not supported with [tune]"));
-    }
-
-    #[test]
-    fn starts_are_validated_and_the_default_keeps_the_fingerprint() {
-        let with = |model: &str| {
-            parse(&MINI.replace(
-                "sigma = 0.1",
-                &format!("sigma = 0.1\n[instance.model]\n{model}"),
-            ))
-        };
-        let base = with("exponent = \"log1p\"").unwrap();
-        let same = with("exponent = \"log1p\"\nstarts = \"log-uniform\"").unwrap();
-        let uniform = with("exponent = \"log1p\"\nstarts = \"uniform\"").unwrap();
-        assert_eq!(base.fingerprint(), same.fingerprint());
-        assert_eq!(base.fingerprint(), parse(MINI).unwrap().fingerprint());
-        assert_ne!(base.fingerprint(), uniform.fingerprint());
-        assert_eq!(uniform.instances[0].model.starts, sls::StartDist::Uniform);
-        let raw = with("exponent = \"raw\"\nstarts = \"uniform\"").unwrap();
-        assert_eq!(raw.instances[0].model.starts, sls::StartDist::Coordinate);
-        let e = with("starts = \"gaussian\"").unwrap_err().to_string();
-        assert!(e.contains("gaussian") && e.contains("starts"), "{e}");
-    }
-
-    #[test]
-    fn fingerprint_ignores_trials_but_not_seed() {
-        let a = parse(MINI).unwrap();
-        let b = parse(&MINI.replace("trials = 4", "trials = 9")).unwrap();
-        let c = parse(&MINI.replace("seed = 3", "seed = 4")).unwrap();
-        // Spelling out a default does not change the fingerprint.
-        let d = parse(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent_evaluations = 200")).unwrap();
-        assert_eq!(a.fingerprint(), b.fingerprint());
-        assert_ne!(a.fingerprint(), c.fingerprint());
-        assert_eq!(a.fingerprint(), d.fingerprint());
-    }
-
-    #[test]
-    fn descent_is_read_per_entry_and_fingerprinted_only_when_not_default() {
-        let plain = parse(MINI).unwrap();
-        assert!(
-            plain
-                .configurations
-                .iter()
-                .all(|c| c.descent == sls::DescentModel::Default)
-        );
-        let spelled =
-            parse(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"default\"")).unwrap();
-        assert_eq!(plain.fingerprint(), spelled.fingerprint());
-        let n2fb = parse(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"n2fb\"")).unwrap();
-        assert_ne!(plain.fingerprint(), n2fb.fingerprint());
-        // Every swept configuration of the entry gets it; the other entry keeps the default.
-        let descents: Vec<_> = n2fb.configurations.iter().map(|c| c.descent).collect();
-        use sls::DescentModel::{Default, N2fb};
-        assert_eq!(descents, [N2fb, N2fb, Default]);
-        assert!(
-            n2fb.describe(1).contains("descent=n2fb"),
-            "{}",
-            n2fb.describe(1)
-        );
-    }
-
-    #[test]
-    fn bad_descent_names_line_and_choices() {
-        let e = err(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = \"port\""));
-        assert!(
-            e.contains("t.toml:21:") && e.contains("`port`") && e.contains("`n2fb`"),
-            "{e}"
-        );
-        let e = err(&MINI.replace("phi = 1.4", "phi = 1.4\ndescent = 2"));
-        assert!(
-            e.contains("t.toml:21:") && e.contains("must be a string"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn relative_paths_resolve_against_spec_dir() {
-        let text = MINI.replace(
-            "[instance.synthetic]\nparams = \"tuning\"\nsamples = 500\nsigma = 0.1",
-            "[instance.file]\npath = \"data/x.brdf\"\nmax_value = 1.0",
-        );
-        let s = parse(&text).unwrap();
-        match &s.instances[0].source {
-            Source::File { resolved, spec } => {
-                assert_eq!(resolved, Path::new("/base/data/x.brdf"));
-                assert_eq!(spec.max_value, Some(1.0));
-            }
-            other => panic!("{other:?}"),
-        }
-    }
-
-    #[test]
-    fn sizes_and_values_are_checked_before_any_work() {
-        let with_synthetic =
-            |extra: &str| MINI.replace("sigma = 0.1", &format!("sigma = 0.1\n{extra}"));
-        for (text, needle) in [
-            (MINI.replace("samples = 500", "samples = 9223372036854775807"), "samples"),
-            (with_synthetic("[instance.model]\nlobes = 9223372036854775807"), "model.lobes"),
-            (MINI.replace("rho0 = [10, 25]", "rho0 = { from = 1, to = 9, steps = 4000000000 }"), "steps"),
-            (format!("{MINI}\n[stats]\nbootstrap = 1000000000\n"), "bootstrap"),
-            (MINI.replace("sigma = 0.1", "sigma = 1e300"), "sigma"),
-            (MINI.replace("sigma = 0.1", "sigma = nan"), "sigma"),
-            (MINI.replace("params = \"tuning\"", "params = { kd = nan, lobes = [] }"), "kd"),
-            (
-                MINI.replace(
-                    "params = \"tuning\"",
-                    "params = { kd = 0.1, lobes = [{ cx = inf, cy = 0.8, cz = 0.96, n = 20, pan_deg = 45 }] }",
-                ),
-                "cx",
-            ),
-            (
-                MINI.replace(
-                    "params = \"tuning\"",
-                    "params = { kd = 0.1, lobes = [{ cx = 1, cy = 0.8, cz = 5, n = 20, pan_deg = 45 }] }",
-                ),
-                "cz",
-            ),
-            (with_synthetic("[instance.model]\nbounds = { \"lobe1.n\" = [0.0, 1.0, 2.0] }"), "bounds"),
-            (MINI.replace("rho0 = [10, 25]", "rho0 = [10, \"many\"]"), "rho0"),
-            (MINI.replace("trials = 4", "trials = 4000000000"), "plan"),
-            (MINI.replace("targets = [0.12, 0.11]", "targets = [nan]"), "targets"),
-            (MINI.replace("cpu_seconds = 0.5", "cpu_seconds = inf"), "cpu_seconds"),
-        ] {
-            let started = std::time::Instant::now();
-            let e = match parse(&text) {
-                Ok(_) => panic!("`{needle}` case accepted:\n{text}"),
-                Err(e) => e.to_string(),
-            };
-            assert!(e.contains(needle), "expected an error naming `{needle}`, got: {e}");
-            assert!(started.elapsed().as_secs_f64() < 1.0, "{needle}: too slow");
-        }
-    }
-}
+mod tests;

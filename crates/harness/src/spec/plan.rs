@@ -57,7 +57,7 @@ impl Spec {
                         config: ci,
                         trial,
                         seed: trial_seed(self.seed, &inst.name, &cfg.label, trial),
-                        key: crate::store::TrialRecord::make_key(&inst.name, &cfg.label, trial),
+                        key: crate::trial_key::trial_key(&inst.name, &cfg.label, trial),
                     });
                 }
             }

@@ -10,14 +10,14 @@ use sls::AlgorithmConfig;
 use toml::Spanned;
 
 use super::limits::{MAX_CONFIGURATIONS, MAX_SWEEP_STEPS};
-use super::raw::{algorithm_key_lines, line_of};
+use super::parsed::{algorithm_key_lines, line_of};
 use super::validate::Ctx;
 use super::{Configuration, SpecError, known_kinds};
 
 /// A sweep entry given as a range.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawRange {
+struct ParsedRange {
     from: toml::Value,
     to: toml::Value,
     steps: usize,
@@ -341,7 +341,7 @@ fn sweep_values(value: &toml::Value) -> Result<Vec<toml::Value>, String> {
 
 /// The values of a range table `{ from, to, steps, scale }`; integer endpoints give integers.
 fn range_values(t: &toml::Table) -> Result<Vec<toml::Value>, String> {
-    let r: RawRange = toml::Value::Table(t.clone())
+    let r: ParsedRange = toml::Value::Table(t.clone())
         .try_into()
         .map_err(|e: toml::de::Error| e.message().to_string())?;
     let (Some(a), Some(b)) = (as_f64(&r.from), as_f64(&r.to)) else {

@@ -4,15 +4,17 @@
 
 use std::path::Path;
 
-use brdf_model::{BrdfParams, ExponentCoord, LobeKind};
+use brdf_model::{ExponentCoord, LobeKind};
 use sls::Budget;
 use toml::Spanned;
+
+use crate::params::ParamsInput;
 
 use super::limits::{
     MAX_BOOTSTRAP, MAX_ERROR_STEPS, MAX_LABEL_CHARS, MAX_LOBES, MAX_PLANNED_TRIALS,
     MAX_SAMPLE_PARAMS, MAX_SAMPLES, MAX_TARGETS, MAX_TRACE_TRIALS,
 };
-use super::raw::{RawBudget, RawInstance, RawModel, RawSynthetic, line_of};
+use super::parsed::{ParsedBudget, ParsedInstance, ParsedModel, ParsedSynthetic, line_of};
 use super::{DataFormat, InstanceSpec, ModelSpec, PlotSpec, Source, SpecError, StatsSpec};
 
 /// Where errors point: the spec text (for line numbers) and its name.
@@ -40,7 +42,7 @@ impl Ctx<'_> {
 }
 
 /// The `[budget]` table: at least one positive, finite limit.
-pub(super) fn budget(cx: &Ctx<'_>, raw: Spanned<RawBudget>) -> Result<Budget, SpecError> {
+pub(super) fn budget(cx: &Ctx<'_>, raw: Spanned<ParsedBudget>) -> Result<Budget, SpecError> {
     let line = cx.line(&raw);
     let rb = raw.into_inner();
     if let Some(c) = rb.cpu_seconds
@@ -85,7 +87,7 @@ pub(super) fn counts(cx: &Ctx<'_>, trials: u32, threads: Option<usize>) -> Resul
 /// Every `[[instance]]`, in order; names must be unique.
 pub(super) fn instances(
     cx: &Ctx<'_>,
-    raw: Vec<RawInstance>,
+    raw: Vec<ParsedInstance>,
     base_dir: &Path,
 ) -> Result<Vec<InstanceSpec>, SpecError> {
     if raw.is_empty() {
@@ -102,7 +104,7 @@ pub(super) fn instances(
     Ok(out)
 }
 
-fn instance(cx: &Ctx<'_>, ri: RawInstance, base_dir: &Path) -> Result<InstanceSpec, SpecError> {
+fn instance(cx: &Ctx<'_>, ri: ParsedInstance, base_dir: &Path) -> Result<InstanceSpec, SpecError> {
     let line = cx.line(&ri.name);
     let name = ri.name.into_inner();
     if name.is_empty() || name.contains('/') {
@@ -223,47 +225,12 @@ fn synthetic(
     cx: &Ctx<'_>,
     name: &str,
     line: Option<usize>,
-    s: RawSynthetic,
+    s: ParsedSynthetic,
 ) -> Result<Source, SpecError> {
     let pline = cx.line(&s.params);
-    let (pname, params) = match s.params.into_inner() {
-        toml::Value::String(n) => match brdf_model::named_params(&n) {
-            Some(p) => (Some(n), p),
-            None => {
-                return Err(cx.invalid(
-                    pline,
-                    format!(
-                        "instance `{name}`: unknown `synthetic.params` name `{n}` (expected one of {})",
-                        brdf_model::NAMED_PARAMS.join(", ")
-                    ),
-                ));
-            }
-        },
-        v @ toml::Value::Table(_) => {
-            let p: BrdfParams = v.try_into().map_err(|e: toml::de::Error| {
-                cx.invalid(
-                    pline,
-                    format!(
-                        "instance `{name}`: `synthetic.params`: {} (expected {{ kd, lobes = [{{ cx, cy, cz, n, pan_deg }}] }})",
-                        e.message()
-                    ),
-                )
-            })?;
-            p.validate().map_err(|e| {
-                cx.invalid(pline, format!("instance `{name}`: `synthetic.params`: {e}"))
-            })?;
-            (None, p)
-        }
-        other => {
-            return Err(cx.invalid(
-                pline,
-                format!(
-                    "instance `{name}`: `synthetic.params` must be a name or a table, found {}",
-                    other.type_str()
-                ),
-            ));
-        }
-    };
+    let origin = format!("instance `{name}`: `synthetic.params`");
+    let given = crate::params::parse_params(&origin, ParamsInput::Toml(s.params.get_ref()))
+        .map_err(|e| cx.invalid(pline, e.to_string()))?;
     if !(1..=MAX_SAMPLES).contains(&s.samples) {
         return Err(cx.invalid(
             line,
@@ -284,8 +251,8 @@ fn synthetic(
         ));
     }
     Ok(Source::Synthetic {
-        name: pname,
-        params,
+        name: given.name,
+        params: given.params,
         samples: s.samples,
         sigma: s.sigma,
         seed: s.seed,
@@ -339,7 +306,7 @@ fn model(
     cx: &Ctx<'_>,
     name: &str,
     line: Option<usize>,
-    raw: Option<Spanned<RawModel>>,
+    raw: Option<Spanned<ParsedModel>>,
     source: &Source,
 ) -> Result<ModelSpec, SpecError> {
     let mline = raw.as_ref().and_then(|m| cx.line(m));
@@ -542,7 +509,7 @@ pub(super) fn name(cx: &Ctx<'_>, raw: Option<String>, stem: &str) -> Result<Stri
 /// (see [`crate::tune`]).
 pub(super) fn tune(
     cx: &Ctx<'_>,
-    raw: Spanned<crate::tune::RawTune>,
+    raw: Spanned<crate::tune::ParsedTune>,
     instances: &[InstanceSpec],
     configurations: &[super::Configuration],
     budget: &Budget,

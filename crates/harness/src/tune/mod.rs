@@ -43,7 +43,7 @@ pub mod validation;
 pub const MAX_BUDGET: u64 = 1_000_000;
 
 /// What a trial's cost measures.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CostKind {
     /// CPU seconds to the target; censored runs cost `penalty * cutoff`.
@@ -54,16 +54,13 @@ pub enum CostKind {
     Rmse,
 }
 
-impl CostKind {
-    /// The name used in specs and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            CostKind::Time => "time",
-            CostKind::Evaluations => "evaluations",
-            CostKind::Rmse => "rmse",
-        }
-    }
+crate::choice::named_choices!(CostKind {
+    Time => "time",
+    Evaluations => "evaluations",
+    Rmse => "rmse",
+});
 
+impl CostKind {
     /// The unit of the cutoff.
     pub fn cutoff_unit(self) -> &'static str {
         match self {
@@ -194,7 +191,7 @@ impl ParamType {
 /// One `[[tune.parameter]]` as written.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawParameter {
+pub struct ParsedParameter {
     /// The algorithm's field name.
     pub name: String,
     /// Its type.
@@ -214,7 +211,7 @@ pub struct RawParameter {
 /// The `[tune]` table as written (see the module documentation).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawTune {
+pub struct ParsedTune {
     /// Label of the configuration to tune.
     pub algorithm: Option<String>,
     /// Training instance names.
@@ -239,7 +236,7 @@ pub struct RawTune {
     pub validation_trials: Option<u32>,
     /// The parameters.
     #[serde(rename = "parameter")]
-    pub parameters: Vec<RawParameter>,
+    pub parameters: Vec<ParsedParameter>,
 }
 
 /// A validated tuned parameter.
@@ -422,7 +419,7 @@ impl TuneSpec {
     /// Validates the raw table against the spec's instance names, configurations (label and
     /// algorithm) and budget. The error message names the key.
     pub fn from_raw(
-        raw: RawTune,
+        raw: ParsedTune,
         instance_names: &[String],
         configurations: &[(String, AlgorithmConfig)],
         budget: &Budget,
@@ -543,7 +540,7 @@ impl TuneSpec {
 }
 
 /// Validates one parameter against the configuration it tunes.
-fn parameter(p: RawParameter, base: &AlgorithmConfig) -> Result<TuneParameter, String> {
+fn parameter(p: ParsedParameter, base: &AlgorithmConfig) -> Result<TuneParameter, String> {
     let at = |m: String| format!("`tune.parameter` `{}`: {m}", p.name);
     let table = base_table(base)?;
     let Some(default) = table.get(&p.name).filter(|_| p.name != "kind") else {

@@ -4,9 +4,25 @@
 
 use std::path::Path;
 
+use sls::{AlgorithmConfig, DescentModel};
+
 use super::irace::Elite;
 use super::{TuneSpec, base_table, with_values};
-use crate::spec::Spec;
+
+/// What the validation spec takes from the tuning spec (see `Spec::tuning_source`).
+#[derive(Clone, Copy, Debug)]
+pub struct TuningSource<'a> {
+    /// The tuning experiment's name.
+    pub name: &'a str,
+    /// Its trials per (instance, configuration): the validation's default trial count.
+    pub trials: u32,
+    /// The directory its relative data paths resolve against.
+    pub base_dir: &'a Path,
+    /// The tuned configuration (`tune.algorithm`) with its defaults.
+    pub algorithm: &'a AlgorithmConfig,
+    /// The tuned configuration's descent model.
+    pub descent: DescentModel,
+}
 
 /// The label of the untuned configuration in the validation spec.
 pub fn default_label(tuned: &str) -> String {
@@ -18,13 +34,13 @@ pub fn elite_label(tuned: &str, rank: usize) -> String {
     format!("{tuned} irace-{rank}")
 }
 
-/// Writes the validation spec's TOML text. `text` and `spec` are the tuning spec (text as
-/// written, and validated), `elites` irace's elites (best first; at most `tune.elites` are
+/// Writes the validation spec's TOML text. `text` is the tuning spec as written and `spec` what
+/// its validated form gives the validation, `elites` irace's elites (best first; at most `tune.elites` are
 /// used), `name` the new experiment's name. Relative data file paths are made absolute, so
 /// the new file may live anywhere.
 pub fn validation_spec(
     text: &str,
-    spec: &Spec,
+    spec: &TuningSource<'_>,
     tune: &TuneSpec,
     elites: &[Elite],
     name: &str,
@@ -72,26 +88,21 @@ pub fn validation_spec(
         kept.push(inst);
     }
     doc.insert("instance".into(), toml::Value::Array(kept));
-    let base = spec
-        .configurations
-        .iter()
-        .find(|c| c.label == tune.algorithm)
-        .ok_or_else(|| format!("no configuration labelled `{}`", tune.algorithm))?;
-    let entry = |label: String, config: &sls::AlgorithmConfig| -> Result<toml::Value, String> {
+    let entry = |label: String, config: &AlgorithmConfig| -> Result<toml::Value, String> {
         let mut t = toml::Table::new();
         t.insert("label".into(), toml::Value::String(label));
         t.extend(base_table(config)?);
-        if base.descent != sls::DescentModel::Default {
+        if spec.descent != DescentModel::Default {
             t.insert(
                 "descent".into(),
-                toml::Value::String(base.descent.to_string()),
+                toml::Value::String(spec.descent.to_string()),
             );
         }
         Ok(toml::Value::Table(t))
     };
-    let mut algorithms = vec![entry(default_label(&tune.algorithm), &base.algorithm)?];
+    let mut algorithms = vec![entry(default_label(&tune.algorithm), spec.algorithm)?];
     for (rank, e) in elites.iter().take(tune.elites).enumerate() {
-        let config = with_values(&base.algorithm, &e.values)
+        let config = with_values(spec.algorithm, &e.values)
             .map_err(|m| format!("irace's elite {}: {m}", e.id))?;
         algorithms.push(entry(elite_label(&tune.algorithm, rank + 1), &config)?);
     }

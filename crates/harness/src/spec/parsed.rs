@@ -10,7 +10,7 @@ use toml::Spanned;
 use super::{FileSpec, PlotSpec, SpecError, StatsSpec};
 
 /// Parses spec text into the raw structs; `origin` names the file in errors.
-pub(super) fn parse(text: &str, origin: &str) -> Result<RawSpec, SpecError> {
+pub(super) fn parse(text: &str, origin: &str) -> Result<ParsedSpec, SpecError> {
     toml::from_str(text).map_err(|e| SpecError::Toml {
         path: origin.to_string(),
         message: e.to_string().trim_end().to_string(),
@@ -19,7 +19,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<RawSpec, SpecError> {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawSpec {
+pub(super) struct ParsedSpec {
     pub(super) name: Option<String>,
     pub(super) description: Option<String>,
     pub(super) seed: u64,
@@ -27,9 +27,9 @@ pub(super) struct RawSpec {
     pub(super) threads: Option<usize>,
     #[serde(default)]
     pub(super) kernel: Kernel,
-    pub(super) budget: Spanned<RawBudget>,
+    pub(super) budget: Spanned<ParsedBudget>,
     #[serde(rename = "instance")]
-    pub(super) instances: Vec<RawInstance>,
+    pub(super) instances: Vec<ParsedInstance>,
     #[serde(rename = "algorithm")]
     pub(super) algorithms: Vec<Spanned<toml::Table>>,
     #[serde(default)]
@@ -38,31 +38,31 @@ pub(super) struct RawSpec {
     pub(super) stats: StatsSpec,
     /// Optional `[tune]` table (automatic tuning with irace; see `crate::tune`).
     #[serde(default)]
-    pub(super) tune: Option<Spanned<crate::tune::RawTune>>,
+    pub(super) tune: Option<Spanned<crate::tune::ParsedTune>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawBudget {
+pub(super) struct ParsedBudget {
     pub(super) cpu_seconds: Option<f64>,
     pub(super) evaluations: Option<f64>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawInstance {
+pub(super) struct ParsedInstance {
     pub(super) name: Spanned<String>,
     /// Numbers (absolute RMSEs) or `{ relative = r }` tables (see `validate::targets`).
     pub(super) targets: Spanned<Vec<toml::Value>>,
-    pub(super) synthetic: Option<RawSynthetic>,
+    pub(super) synthetic: Option<ParsedSynthetic>,
     pub(super) file: Option<Spanned<FileSpec>>,
     #[serde(default)]
-    pub(super) model: Option<Spanned<RawModel>>,
+    pub(super) model: Option<Spanned<ParsedModel>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawSynthetic {
+pub(super) struct ParsedSynthetic {
     pub(super) params: Spanned<toml::Value>,
     #[serde(default = "default_samples")]
     pub(super) samples: usize,
@@ -81,7 +81,7 @@ fn default_instance_seed() -> u64 {
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawModel {
+pub(super) struct ParsedModel {
     pub(super) lobes: Option<usize>,
     pub(super) kind: Option<LobeKind>,
     pub(super) kinds: Option<Vec<LobeKind>>,

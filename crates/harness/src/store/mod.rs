@@ -1,0 +1,495 @@
+//! The crash-safe results store: `trials.jsonl`, one JSON object per line.
+//!
+//! Layout of `<out>/trials.jsonl`:
+//!
+//! 1. A header line `{"type":"header", ...}` holding the format version, the experiment name,
+//!    the spec fingerprint (hash of the canonicalised spec, see [`crate::spec::Spec::fingerprint`]),
+//!    the canonical spec itself and the machine of the first session.
+//! 2. One `{"type":"session", ...}` line per start (machine, threads, trials already present),
+//!    so resumed runs on other machines stay visible.
+//! 3. One `{"type":"trial", ...}` line per finished trial ([`TrialRecord`]).
+//!
+//! Each line is serialised completely in memory and then written with a single `write_all` and
+//! flushed while holding a mutex, so a kill can at worst leave one torn line at the very end.
+//! On open, an existing file with the same fingerprint is resumed: a torn tail (bytes after the
+//! last newline, or an unparsable last line) is copied to `trials.jsonl.torn-<unix time>` and
+//! truncated away; finished trials are returned so the runner skips them. A file with a different
+//! fingerprint is refused ([`StoreError::FingerprintMismatch`]); `fresh` renames it to
+//! `trials.jsonl.old-<unix time>` (never deletes it) and starts a new one.
+//!
+//! Derived files (summary, statistics, plots) are written with [`write_atomic`]: a temporary file
+//! in the same directory, fsync, then rename, so a reader never sees half a file.
+//!
+//! One writer at a time: [`LockedFolder::lock`] takes an advisory lock on `<out>/.lock` (which
+//! holds the writer's PID) and only then reads the results file, once; the store opened on it
+//! ([`ResultStore::open_locked`], or [`ResultStore::open`] doing both) keeps the lock for as
+//! long as it lives, so a second run on the same folder fails at once with
+//! [`StoreError::Locked`] naming the holder instead of interleaving lines. Trial lines are
+//! written through a file opened in append mode.
+//!
+//! Packed results: the repository commits results as `trials.jsonl.gz`. [`read_results`] reads
+//! the packed file when the plain one is absent, and [`ResultStore::open`] unpacks it into
+//! `trials.jsonl` (keeping the packed copy) before resuming, so nobody has to unpack by hand.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use sls::{Budget, TrialResult};
+
+use crate::machine::MachineInfo;
+
+/// Version of the `trials.jsonl` layout.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Name of the results file inside the output directory.
+pub const TRIALS_FILE: &str = "trials.jsonl";
+
+/// Name of the packed (gzip) results file, as committed to the repository.
+pub const PACKED_TRIALS_FILE: &str = "trials.jsonl.gz";
+
+/// Name of the lock file inside the output directory (holds the writer's PID).
+pub const LOCK_FILE: &str = ".lock";
+
+/// Largest results file read back (unpacked), against a corrupt or hostile `.gz`.
+pub const MAX_RESULTS_BYTES: u64 = 8 << 30;
+
+/// Errors of the results store.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    /// An I/O operation failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory involved.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// Appending a line failed; the file was cut back to its last complete line, so every
+    /// trial written before is kept and a later run resumes from there.
+    #[error(
+        "{path}: {source} (the file was cut back to its last complete line; run again to resume)"
+    )]
+    AppendFailed {
+        /// The results file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The results file was written for a different spec.
+    #[error(
+        "{path} holds results of a different spec (stored fingerprint {found}, this spec {expected}).\n\
+         Refusing to mix them. Either write elsewhere with --out DIR, or start over with --fresh \
+         (the old file is renamed to {}.old-<time>, never deleted).",
+        TRIALS_FILE
+    )]
+    FingerprintMismatch {
+        /// The results file.
+        path: PathBuf,
+        /// Fingerprint stored in its header.
+        found: String,
+        /// Fingerprint of the current spec.
+        expected: String,
+    },
+    /// A complete line in the middle of the file does not parse.
+    #[error("{path}:{line}: corrupt results line ({message}); the file was not modified")]
+    Corrupt {
+        /// The results file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What failed to parse.
+        message: String,
+    },
+    /// The file has no header line.
+    #[error("{path}: missing header line (not a brdf-sls results file?)")]
+    MissingHeader {
+        /// The results file.
+        path: PathBuf,
+    },
+    /// Another process is writing to the same results folder.
+    #[error(
+        "{dir} is in use by another brdf-sls process{}: wait for it to finish, or write elsewhere with --out DIR",
+        pid.map(|p| format!(" (PID {p})")).unwrap_or_default()
+    )]
+    Locked {
+        /// The results folder.
+        dir: PathBuf,
+        /// The holder's PID, when its lock file could be read.
+        pid: Option<u32>,
+    },
+    /// The data of an instance differ from the data the results were started on.
+    #[error(
+        "{path}: instance `{instance}` has different data now (hash {now}) than when these results \
+         were started ({stored}); the data file or its filters changed. Write elsewhere with --out \
+         DIR, or start over with --fresh (the old file is moved aside, never deleted)."
+    )]
+    DataChanged {
+        /// The results file.
+        path: PathBuf,
+        /// The instance.
+        instance: String,
+        /// Hash stored in the header.
+        stored: String,
+        /// Hash of the data now.
+        now: String,
+    },
+    /// A record could not be serialised (the trial is not lost silently: the run stops).
+    #[error("{path}: cannot serialise a results line: {message}")]
+    Serialize {
+        /// The results file.
+        path: PathBuf,
+        /// serde_json's message.
+        message: String,
+    },
+    /// The packed results are larger than [`MAX_RESULTS_BYTES`] once unpacked.
+    #[error("{path}: unpacks to more than {MAX_RESULTS_BYTES} bytes; refusing to read it")]
+    TooLarge {
+        /// The packed file.
+        path: PathBuf,
+    },
+    /// The file has a newer format version.
+    #[error(
+        "{path}: results format version {found} is not supported (this build reads {FORMAT_VERSION})"
+    )]
+    Version {
+        /// The results file.
+        path: PathBuf,
+        /// Version found in the header.
+        found: u32,
+    },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StoreError + '_ {
+    move |source| StoreError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// First line of a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// Layout version ([`FORMAT_VERSION`]).
+    pub format: u32,
+    /// Experiment name.
+    pub experiment: String,
+    /// Fingerprint of the canonical spec: results are only resumed under the same fingerprint.
+    pub fingerprint: String,
+    /// When the file was created (Unix seconds).
+    pub created_unix: u64,
+    /// Machine of the first session.
+    pub machine: MachineInfo,
+    /// The canonical spec the fingerprint was computed from.
+    pub spec: serde_json::Value,
+    /// The spec's TOML text as given (lets `plot` and `stats` work from the results alone).
+    #[serde(default)]
+    pub spec_text: String,
+    /// Version of the program that created the file ([`crate::PROGRAM_VERSION`]: the crate
+    /// version and the git commit of the build; the crate version only in files before
+    /// 2026-12-02, empty in older ones).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program_version: String,
+    /// The evaluation kernel of the first session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub kernel: String,
+    /// The solver's kernel of the first session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub solver_kernel: String,
+    /// Instance name -> hash of its data ([`crate::seed::data_hash`]); a resume on different
+    /// data is refused. Empty in older files (then nothing is checked).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub data_hashes: BTreeMap<String, String>,
+    /// The shard of the plan this file holds (`brdf-sls run --shard K/N`); `None` for a whole
+    /// plan, a merged folder, and older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<crate::shard::Shard>,
+    /// Instance name -> best-known RMSE when the file was created ([`crate::best_known`]).
+    /// Empty in older files.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub best_known: BTreeMap<String, crate::best_known_record::BestKnown>,
+}
+
+/// One start of a run against a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Session {
+    /// Start time (Unix seconds).
+    pub started_unix: u64,
+    /// Machine and thread count of this session.
+    pub machine: MachineInfo,
+    /// Finished trials already in the file at the start.
+    pub trials_present: usize,
+    /// The spec's TOML text of this session (it may raise `trials` over the header's), so that
+    /// `stats` and `plot` on the folder alone use the latest plan. Empty in older files.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub spec_text: String,
+    /// Version of the program that ran this session (as in [`Header::program_version`]).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program_version: String,
+    /// The evaluation kernel of this session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub kernel: String,
+    /// The solver's kernel of this session (empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub solver_kernel: String,
+    /// Instance name -> best-known RMSE this session used (empty in older files).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub best_known: BTreeMap<String, crate::best_known_record::BestKnown>,
+}
+
+/// One finished trial.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrialRecord {
+    /// Unique key `instance/configuration/trial`.
+    pub key: String,
+    /// Instance name.
+    pub instance: String,
+    /// Configuration label.
+    pub config: String,
+    /// Trial index within (instance, configuration), from 0.
+    pub trial: u32,
+    /// The trial's seed ([`crate::seed::trial_seed`]).
+    pub seed: u64,
+    /// The RMSE the trial ran to (the instance's lowest target).
+    pub target: f64,
+    /// The budget the trial had.
+    pub budget: Budget,
+    /// What the trial returned (times, evaluations, anytime trace).
+    pub result: TrialResult,
+}
+
+impl TrialRecord {
+    /// The key of a trial.
+    pub fn make_key(instance: &str, config: &str, trial: u32) -> String {
+        crate::trial_key::trial_key(instance, config, trial)
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+enum Line {
+    Header(Header),
+    Session(Session),
+    Trial(TrialRecord),
+}
+
+/// Parses one line. serde_json writes non-finite floats as `null`; a trial that never evaluated
+/// a point has `best_rmse = +inf`, so `null` there is read back as +inf.
+fn decode_line(text: &str) -> Result<Line, serde_json::Error> {
+    let mut v: serde_json::Value = serde_json::from_str(text)?;
+    let mut infinite_best = false;
+    if let Some(best) = v
+        .get_mut("result")
+        .and_then(|r| r.get_mut("best_rmse"))
+        .filter(|b| b.is_null())
+    {
+        *best = serde_json::json!(0.0);
+        infinite_best = true;
+    }
+    let mut line: Line = serde_json::from_value(v)?;
+    if let (true, Line::Trial(rec)) = (infinite_best, &mut line) {
+        rec.result.best_rmse = f64::INFINITY;
+    }
+    Ok(line)
+}
+
+fn encode_line(path: &Path, line: &Line) -> Result<String, StoreError> {
+    let mut s = serde_json::to_string(line).map_err(|e| StoreError::Serialize {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    s.push('\n');
+    Ok(s)
+}
+
+/// Contents of a results file as read back.
+#[derive(Clone, Debug)]
+pub struct Contents {
+    /// The header.
+    pub header: Header,
+    /// Sessions in file order.
+    pub sessions: Vec<Session>,
+    /// Finished trials (first occurrence of each key), in file order.
+    pub records: Vec<TrialRecord>,
+    /// Byte length of the well-formed prefix (everything up to the last good line).
+    pub good_len: u64,
+    /// Torn bytes after the good prefix, if any.
+    pub torn: Option<Vec<u8>>,
+    /// Keys that appeared more than once (later copies ignored).
+    pub duplicates: Vec<String>,
+}
+
+impl Contents {
+    /// The spec text of the latest session that recorded one, else the header's: the plan the
+    /// folder was last run with.
+    pub fn current_spec_text(&self) -> &str {
+        self.sessions
+            .iter()
+            .rev()
+            .map(|s| s.spec_text.as_str())
+            .find(|t| !t.is_empty())
+            .unwrap_or(&self.header.spec_text)
+    }
+
+    /// The best-known RMSEs of the latest session that recorded them, else the header's
+    /// (empty for files written before they were recorded).
+    pub fn best_known(&self) -> &BTreeMap<String, crate::best_known_record::BestKnown> {
+        self.sessions
+            .iter()
+            .rev()
+            .map(|s| &s.best_known)
+            .find(|b| !b.is_empty())
+            .unwrap_or(&self.header.best_known)
+    }
+}
+
+/// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
+/// the last one is.
+pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError> {
+    let mut header = None;
+    let mut sessions = Vec::new();
+    let mut records = Vec::new();
+    let mut duplicates = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    let mut pos = 0usize;
+    let mut good_len = 0usize;
+    let mut line_no = 0usize;
+    let mut torn = None;
+    while pos < bytes.len() {
+        line_no += 1;
+        let Some(nl) = bytes[pos..].iter().position(|&b| b == b'\n') else {
+            // No newline: the write of this line was interrupted.
+            torn = Some(bytes[pos..].to_vec());
+            break;
+        };
+        let end = pos + nl;
+        let is_last = end + 1 >= bytes.len();
+        let text = String::from_utf8_lossy(&bytes[pos..end]);
+        if text.trim().is_empty() {
+            pos = end + 1;
+            good_len = pos;
+            continue;
+        }
+        match decode_line(&text) {
+            Ok(Line::Header(h)) if header.is_none() => {
+                if h.format > FORMAT_VERSION {
+                    return Err(StoreError::Version {
+                        path: path.to_path_buf(),
+                        found: h.format,
+                    });
+                }
+                header = Some(h)
+            }
+            Ok(_) if header.is_none() => {
+                return Err(StoreError::MissingHeader {
+                    path: path.to_path_buf(),
+                });
+            }
+            Ok(Line::Header(_)) => {
+                return Err(StoreError::Corrupt {
+                    path: path.to_path_buf(),
+                    line: line_no,
+                    message: "a second header line".into(),
+                });
+            }
+            Ok(Line::Session(s)) => sessions.push(s),
+            Ok(Line::Trial(r)) => {
+                if seen.insert(r.key.clone()) {
+                    records.push(r);
+                } else {
+                    duplicates.push(r.key);
+                }
+            }
+            Err(e) if is_last => {
+                // A complete but unparsable last line can only come from an interrupted write
+                // that happened to end at a newline: treat it as torn.
+                let _ = e;
+                torn = Some(bytes[pos..].to_vec());
+                break;
+            }
+            Err(e) => {
+                return Err(StoreError::Corrupt {
+                    path: path.to_path_buf(),
+                    line: line_no,
+                    message: e.to_string(),
+                });
+            }
+        }
+        pos = end + 1;
+        good_len = pos;
+    }
+    let header = header.ok_or_else(|| StoreError::MissingHeader {
+        path: path.to_path_buf(),
+    })?;
+    Ok(Contents {
+        header,
+        sessions,
+        records,
+        good_len: good_len as u64,
+        torn,
+        duplicates,
+    })
+}
+
+/// The results file of a folder: `trials.jsonl`, or the packed `trials.jsonl.gz` when only that
+/// exists.
+pub fn results_file(dir: &Path) -> PathBuf {
+    let plain = dir.join(TRIALS_FILE);
+    let packed = dir.join(PACKED_TRIALS_FILE);
+    if !plain.exists() && packed.exists() {
+        packed
+    } else {
+        plain
+    }
+}
+
+fn is_packed(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "gz")
+}
+
+/// Reads a file, unpacking it when its name ends in `.gz`.
+fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
+    folder::count_read();
+    let file = File::open(path).map_err(io_err(path))?;
+    if !is_packed(path) {
+        let mut bytes = Vec::new();
+        let mut reader = std::io::BufReader::new(file);
+        reader.read_to_end(&mut bytes).map_err(io_err(path))?;
+        return Ok(bytes);
+    }
+    let mut bytes = Vec::new();
+    flate2::read::GzDecoder::new(std::io::BufReader::new(file))
+        .take(MAX_RESULTS_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io_err(path))?;
+    if bytes.len() as u64 > MAX_RESULTS_BYTES {
+        return Err(StoreError::TooLarge {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(bytes)
+}
+
+/// Reads a results file, `<dir>/trials.jsonl`, or (when only that exists) the packed
+/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
+pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
+    let file = if path.is_dir() {
+        results_file(path)
+    } else {
+        path.to_path_buf()
+    };
+    let bytes = read_maybe_packed(&file)?;
+    parse_contents(&file, &bytes)
+}
+
+mod folder;
+mod writer;
+
+pub use brdf_graphics::files::write_atomic;
+pub use folder::{DirLock, LockedFolder, results_reads_on_this_thread};
+pub use writer::{Opened, ResultStore, write_results};
+
+#[cfg(test)]
+mod tests;
