@@ -1,7 +1,7 @@
 //! Runs the Moré-Garbow-Hillstrom collection (unbounded and boxed, from x0 and 10 x0) with the
 //! default options and prints the markdown table; with a path argument it also writes it there.
 //!
-//! `cargo run -p bounded-lm --release --example mgh_table -- crates/lm/MGH.md
+//! `cargo run -p bounded-lm --release --example mgh_table -- results/lm/mgh-default.md
 //! [default|gauss-newton|adaptive|n2fb] [lift] [no-secant] [classic] [adaptive-delay=K]
 //! [secant-delay=K] [scaling-decay=F] [free-dead] [n2fb-singular-test] [no-correction]
 //! [correction]`

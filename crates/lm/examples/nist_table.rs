@@ -1,7 +1,7 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
 //! radius rule, without the secant term in the scaling, with MINPACK's non-decreasing scaling,
 //! without the second-order correction, and N2FB's configuration, which has none) and writes
-//! the per-problem table to `results/nist-lm.md` (workspace root). Regenerate with
+//! the per-problem table to `results/lm/nist.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
 #[path = "../tests/common/nist.rs"]
@@ -152,10 +152,10 @@ fn main() {
     // An optional argument writes the table elsewhere.
     let path = std::env::args()
         .nth(1)
-        .unwrap_or_else(|| format!("{}/../../results/nist-lm.md", env!("CARGO_MANIFEST_DIR")));
+        .unwrap_or_else(|| format!("{}/../../results/lm/nist.md", env!("CARGO_MANIFEST_DIR")));
     if let Some(dir) = std::path::Path::new(&path).parent() {
         std::fs::create_dir_all(dir).expect("results dir");
     }
-    std::fs::write(&path, out).expect("write results/nist-lm.md");
+    std::fs::write(&path, out).expect("write results/lm/nist.md");
     println!("wrote {path}");
 }
