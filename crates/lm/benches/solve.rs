@@ -15,8 +15,10 @@ use std::hint::black_box;
 fn bench_nist(c: &mut Criterion) {
     let data: Vec<nist::NistData> = nist::NAMES.iter().map(|n| nist::load(n)).collect();
     for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
-        let mut options = Options::default();
-        options.model = model;
+        let options = Options {
+            model,
+            ..Options::default()
+        };
         let mut solver = Solver::new();
         let (mut fev, mut jev) = (0, 0);
         for d in &data {

@@ -18,8 +18,10 @@ fn main() {
     // The adaptive rows switch models from the first secant update (N2FB's rule); the default
     // (first row) only after its delay.
     let with = |model, update, secant| {
-        let mut options = Options::default();
-        options.model = model;
+        let mut options = Options {
+            model,
+            ..Options::default()
+        };
         options.radius.update = update;
         options.scaling.secant = secant;
         options

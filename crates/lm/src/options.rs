@@ -227,11 +227,13 @@ impl Options {
     /// our dead-column hold and longer singular test step so that its codes stay honest
     /// ([`Options::for_search`] drops them).
     pub fn n2fb() -> Self {
-        let mut options = Self::default();
-        options.model = StepModel::N2FB;
-        options.scaling = Scaling {
-            decay: Scaling::NL2SOL_DECAY,
-            secant: SecantScaling::After { delay: 0 },
+        let mut options = Self {
+            model: StepModel::N2FB,
+            scaling: Scaling {
+                decay: Scaling::NL2SOL_DECAY,
+                secant: SecantScaling::After { delay: 0 },
+            },
+            ..Self::default()
         };
         options.safeguards.second_order_correction = false;
         options

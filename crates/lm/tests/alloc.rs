@@ -60,8 +60,10 @@ fn repeated_solves_do_not_allocate() {
         (adaptive, SecantScaling::After { delay: 0 }),
         (StepModel::GaussNewton, SecantScaling::After { delay: 0 }),
     ] {
-        let mut options = Options::default();
-        options.model = model;
+        let mut options = Options {
+            model,
+            ..Options::default()
+        };
         options.scaling.secant = secant_scaling;
         let start = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];
         // Warm-up solve sizes the workspace.

@@ -102,8 +102,10 @@ fn dead_lobe_columns_do_not_fake_convergence() {
         for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();
             let f0 = f_at(&mut prob, &[0.5, 0.04, n1, -0.14, n2]);
-            let mut opt = Options::default();
-            opt.model = model;
+            let opt = Options {
+                model,
+                ..Options::default()
+            };
             let (rep, x) = solve_from(&mut prob, n1, n2, &opt);
             let f = f_at(&mut prob, &x);
             let cos_kd = cosine(&mut prob, &x, 0);
@@ -133,8 +135,10 @@ fn dead_lobe_columns_do_not_fake_convergence() {
 #[test]
 fn free_dead_columns_waste_steps_but_never_claim_success() {
     for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
-        let mut opt = Options::default();
-        opt.model = model;
+        let mut opt = Options {
+            model,
+            ..Options::default()
+        };
         opt.safeguards.hold_dead_columns = false;
         for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();

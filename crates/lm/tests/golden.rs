@@ -67,8 +67,10 @@ fn line(out: &mut String, label: &str, r: &Report) {
 fn current() -> String {
     let mut out = String::new();
     let mut solver = Solver::new();
-    let mut adaptive = Options::default();
-    adaptive.model = StepModel::N2FB;
+    let adaptive = Options {
+        model: StepModel::N2FB,
+        ..Options::default()
+    };
     let mut classic = Options::gauss_newton();
     classic.radius.update = RadiusUpdate::Classic;
     let mut gn_nosecant = Options::gauss_newton();

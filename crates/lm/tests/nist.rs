@@ -71,8 +71,10 @@ fn nist_defaults_and_gauss_newton() {
 /// docs/solver.md and the no-false-success rule.
 #[test]
 fn nist_adaptive() {
-    let mut adaptive = Options::default();
-    adaptive.model = StepModel::N2FB;
+    let mut adaptive = Options {
+        model: StepModel::N2FB,
+        ..Options::default()
+    };
     adaptive.scaling.secant = SecantScaling::Off;
     check(&adaptive, 52, true);
     check(&Options::n2fb(), 51, true);

@@ -288,7 +288,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// [`TrialContext::set_adaptive_delay`] secant updates per parameter, or Gauss-Newton only
     /// (the default before 2026-12-02). Switching from the first update made AED, AERS and RPLS
     /// slower on the paper's tuning instance; the delayed switch leaves AED's short descents
-    /// unchanged (bounded-lm's crate docs, "Step model in the searches"). For comparisons.
+    /// unchanged (`docs/solver.md`, "Step model and secant scaling"). For comparisons.
     pub fn set_step_model(&mut self, model: bounded_lm::StepModel) {
         self.options.model = model;
     }
@@ -297,7 +297,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// (`bounded_lm::SecantScaling`, N2FB's rule, on by default) and after how many
     /// secant updates per parameter (its delay, default 2;
     /// with 0, N2FB's rule, AED measured 8% slower on the paper's tuning instance: bounded-lm's
-    /// crate docs). For comparisons.
+    /// `docs/solver.md`). For comparisons.
     pub fn set_secant_scaling(&mut self, on: bool, delay: usize) {
         self.options.scaling.secant = if on {
             bounded_lm::SecantScaling::After { delay }

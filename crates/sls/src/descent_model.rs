@@ -1,6 +1,6 @@
 //! Which configuration of the bounded Levenberg-Marquardt descent a trial uses.
 
-use bounded_lm::{Options, StepModel};
+use bounded_lm::Options;
 use serde::{Deserialize, Serialize};
 
 /// The descent's solver configuration, chosen per configuration of an experiment so that
@@ -81,6 +81,7 @@ impl std::fmt::Display for DescentModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bounded_lm::StepModel;
 
     #[test]
     fn names_round_trip_and_select_distinct_options() {

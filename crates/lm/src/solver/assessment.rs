@@ -38,8 +38,9 @@ impl Descent<'_> {
         let mut switch_models = false;
         if self.model.switching && !trial.restored && !(ared > 0.1 * trial.info.preduc) {
             let augmented = self.model.augmented;
-            // The augmented model predicts `pred_gn - 0.5 s^T S s` (this sign was reversed
-            // before, so the adaptive solver never left the Gauss-Newton model).
+            // The augmented model predicts `pred_gn - 0.5 s^T S s`; with the sign reversed the
+            // augmented model always looks worse and the adaptive solver never leaves the
+            // Gauss-Newton model.
             let (pred, sss) = ws.predicted(augmented);
             let pred_alt = if augmented {
                 pred + 0.5 * sss

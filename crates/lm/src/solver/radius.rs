@@ -68,7 +68,7 @@ impl TrustRadius {
     /// the radius at once; an accepted one leaves RADFAC to be applied by
     /// [`TrustRadius::start_iteration`] (N2FB's rule). `switching`: the adaptive model choice
     /// may switch models in this iteration; then no longer step is tried (our departure from
-    /// NL2SOL, measured in [`RadiusUpdate::Nl2sol`]'s docs).
+    /// NL2SOL, measured in `docs/solver.md`, "Trust radius").
     pub(super) fn after_step(
         &mut self,
         trial: &Trial,

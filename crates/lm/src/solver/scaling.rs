@@ -30,13 +30,11 @@ impl Workspace {
         })
     }
 
-    /// Updates the scaling: `D_i = max(DFAC D_i, ||J_i||_2)` with DFAC =
-    /// `decay` ([`Scaling::decay`](crate::Scaling::decay)) (N2FB's 0.6 by default; 1 is MINPACK's non-decreasing rule),
-    /// the column 2-norm of the original NL2SOL rather than PORT's column max; a column whose
-    /// norm is below 1e-6 uses 1 instead, so a dead parameter keeps a sane scale. Measured on
-    /// NIST (GN model, default budgets, an earlier version of the solver): DFAC 0.6 50/54,
-    /// column max 44/54, MINPACK's rule 49/54; with the solver of 2026-12-03 the default
-    /// scores 52/54 with either factor. With `secant` (once `S` has had the delay's updates),
+    /// Updates the scaling: `D_i = max(DFAC D_i, ||J_i||_2)` with DFAC = `decay`
+    /// ([`Scaling::decay`](crate::Scaling::decay); 1 is MINPACK's non-decreasing rule), the
+    /// column 2-norm of the original NL2SOL rather than PORT's column max (which scored lower
+    /// on NIST, `docs/solver.md`); a column whose norm is below 1e-6 uses 1 instead, so a dead
+    /// parameter keeps a sane scale. With `secant` (once `S` has had the delay's updates),
     /// `||J_i||_2` becomes `sqrt(||J_i||^2 + S_ii)` where `S_ii > 0` (NL2SOL's DUPDAT: the
     /// diagonal of the augmented Hessian `J^T J + S`).
     pub(super) fn update_scaling(&mut self, first: bool, secant: bool, decay: f64) {

@@ -85,7 +85,7 @@ pub(super) fn trust_region(
     }
     if !gnorm.is_finite() || !hnorm.is_finite() {
         // A broken model (overflow in the factorization): no step, and no claim of
-        // stationarity (this once returned a zero "Newton" step, reported as code 4).
+        // stationarity (a zero "Newton" step here would be reported as code 4).
         z.fill(0.0);
         return TrResult {
             lambda: lambda_guess,
