@@ -35,8 +35,9 @@ use workspace::Workspace;
 
 /// Bounded trust-region Levenberg-Marquardt solver.
 ///
-/// The solver owns its workspace, sized by [`Workspace::required`]: repeated solves of the same
-/// or a smaller size allocate nothing, and [`Solver::with_capacity`] allocates it up front.
+/// The solver owns its workspace, sized by the size query `Workspace::required(m, p)`:
+/// repeated solves of the same or a smaller size allocate nothing, and
+/// [`Solver::with_capacity`] allocates it up front.
 #[derive(Clone, Debug, Default)]
 pub struct Solver {
     ws: Workspace,
