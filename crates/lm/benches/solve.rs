@@ -14,7 +14,7 @@ use std::hint::black_box;
 
 fn bench_nist(c: &mut Criterion) {
     let data: Vec<nist::NistData> = nist::NAMES.iter().map(|n| nist::load(n)).collect();
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
+    for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
         let options = Options {
             model,
             ..Options::default()

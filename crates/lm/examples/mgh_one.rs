@@ -4,7 +4,7 @@
 //! [adaptive|classic|no-secant|no-correction|n2fb]`
 
 use bounded_lm::problems::mgh;
-use bounded_lm::{Options, Problem, RadiusUpdate, Solver, StepModel};
+use bounded_lm::{Options, Problem, RadiusUpdate, SecantScaling, Solver, StepModel};
 
 struct Trace<'a>(&'a mut mgh::Mgh, usize);
 impl Problem for Trace<'_> {
@@ -33,10 +33,10 @@ fn main() {
     let mut options = Options::default();
     for a in args.iter().skip(3) {
         match a.as_str() {
-            "adaptive" => options.model = StepModel::Adaptive,
-            "classic" => options.radius_update = RadiusUpdate::Classic,
-            "no-secant" => options.secant_scaling = false,
-            "no-correction" => options.second_order_correction = false,
+            "adaptive" => options.model = StepModel::Adaptive { delay: 2 },
+            "classic" => options.radius.update = RadiusUpdate::Classic,
+            "no-secant" => options.scaling.secant = SecantScaling::Off,
+            "no-correction" => options.safeguards.second_order_correction = false,
             "n2fb" => options = Options::n2fb(),
             other => {
                 panic!("unknown option {other} (adaptive, classic, no-secant, no-correction, n2fb)")

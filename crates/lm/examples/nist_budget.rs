@@ -12,13 +12,9 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(5000);
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
-        let options = Options {
-            model,
-            max_iterations: budget,
-            max_evaluations: budget,
-            ..Options::default()
-        };
+    for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
+        let mut options = Options::default().with_limits(budget, budget);
+        options.model = model;
         let runs = nist::run_all(&options);
         let correct = runs.iter().filter(|r| r.correct()).count();
         println!("{model:?} budget {budget}: {correct}/54");

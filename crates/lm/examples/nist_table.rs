@@ -1,13 +1,13 @@
 //! Runs the NIST StRD suite with both step models (and the Gauss-Newton model with the classic
 //! radius rule, without the secant term in the scaling, with MINPACK's non-decreasing scaling,
 //! without the second-order correction, and N2FB's configuration, which has none) and writes
-//! the per-problem table to `results/nist-lm.md` (workspace root). Regenerate with
+//! the per-problem table to `results/lm/nist.md` (workspace root). Regenerate with
 //! `cargo run -p bounded-lm --release --example nist_table [-- OUT.md]`.
 
 #[path = "../tests/common/nist.rs"]
 mod nist;
 
-use bounded_lm::{Options, RadiusUpdate, StepModel};
+use bounded_lm::{Options, RadiusUpdate, SecantScaling, StepModel};
 use std::fmt::Write as _;
 
 fn main() {
@@ -16,60 +16,60 @@ fn main() {
     let defaults = Options::default();
     let mut tables = String::new();
     // The adaptive rows switch models from the first secant update (N2FB's rule); the default
-    // (first row) only after `adaptive_delay` updates per parameter.
-    let with = |model, radius_update, secant_scaling| Options {
-        model,
-        radius_update,
-        secant_scaling,
-        adaptive_delay: 0,
-        ..Options::default()
+    // (first row) only after its delay.
+    let with = |model, update, secant| {
+        let mut options = Options {
+            model,
+            ..Options::default()
+        };
+        options.radius.update = update;
+        options.scaling.secant = secant;
+        options
     };
+    let mut no_correction = Options::default();
+    no_correction.safeguards.second_order_correction = false;
+    let mut minpack = Options::default();
+    minpack.scaling.decay = 1.0;
+    let (gn, adaptive) = (StepModel::GaussNewton, StepModel::N2FB);
+    let (nl2sol, secant) = (defaults.radius.update, defaults.scaling.secant);
     let configs = [
         Options::default(),
-        Options {
-            second_order_correction: false,
-            ..Options::default()
-        },
-        Options {
-            scaling_decay: 1.0,
-            ..Options::default()
-        },
-        with(StepModel::GaussNewton, defaults.radius_update, true),
-        with(StepModel::Adaptive, defaults.radius_update, true),
-        with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
-        with(StepModel::GaussNewton, defaults.radius_update, false),
-        with(StepModel::Adaptive, defaults.radius_update, false),
+        no_correction,
+        minpack,
+        with(gn, nl2sol, secant),
+        with(adaptive, nl2sol, secant),
+        with(gn, RadiusUpdate::Classic, secant),
+        with(gn, nl2sol, SecantScaling::Off),
+        with(adaptive, nl2sol, SecantScaling::Off),
         Options::n2fb(),
     ];
     for options in configs {
-        let (model, radius_update, secant_scaling) =
-            (options.model, options.radius_update, options.secant_scaling);
-        let switch = if model == StepModel::Adaptive && options.adaptive_delay > 0 {
-            format!(" from {} updates per parameter", options.adaptive_delay)
-        } else {
-            String::new()
+        let radius_update = options.radius.update;
+        let (model, switch) = match options.model {
+            StepModel::GaussNewton => ("GaussNewton", String::new()),
+            StepModel::Adaptive { delay: 0 } => ("Adaptive", String::new()),
+            StepModel::Adaptive { delay } => {
+                ("Adaptive", format!(" from {delay} updates per parameter"))
+            }
         };
-        let decay = if options.scaling_decay == defaults.scaling_decay {
+        let decay = if options.scaling.decay == defaults.scaling.decay {
             String::new()
         } else {
-            format!(", scaling decay {} (MINPACK's)", options.scaling_decay)
+            format!(", scaling decay {} (MINPACK's)", options.scaling.decay)
         };
-        let correction = if options.second_order_correction {
+        let correction = if options.safeguards.second_order_correction {
             ""
         } else {
             ", no second-order correction"
         };
         let label = format!(
-            "{model:?}{switch}, {radius_update:?} radius{decay}{correction}, {}",
-            if !secant_scaling {
-                "no secant scaling".to_string()
-            } else if options.secant_scaling_delay == 0 {
-                "secant scaling at once (N2FB)".to_string()
-            } else {
-                format!(
-                    "secant scaling after {} updates per parameter",
-                    options.secant_scaling_delay
-                )
+            "{model}{switch}, {radius_update:?} radius{decay}{correction}, {}",
+            match options.scaling.secant {
+                SecantScaling::Off => "no secant scaling".to_string(),
+                SecantScaling::After { delay: 0 } => "secant scaling at once (N2FB)".to_string(),
+                SecantScaling::After { delay } => {
+                    format!("secant scaling after {delay} updates per parameter")
+                }
             }
         );
         let runs = nist::run_all(&options);
@@ -152,10 +152,10 @@ fn main() {
     // An optional argument writes the table elsewhere.
     let path = std::env::args()
         .nth(1)
-        .unwrap_or_else(|| format!("{}/../../results/nist-lm.md", env!("CARGO_MANIFEST_DIR")));
+        .unwrap_or_else(|| format!("{}/../../results/lm/nist.md", env!("CARGO_MANIFEST_DIR")));
     if let Some(dir) = std::path::Path::new(&path).parent() {
         std::fs::create_dir_all(dir).expect("results dir");
     }
-    std::fs::write(&path, out).expect("write results/nist-lm.md");
+    std::fs::write(&path, out).expect("write results/lm/nist.md");
     println!("wrote {path}");
 }

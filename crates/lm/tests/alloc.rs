@@ -3,7 +3,7 @@
 
 mod common;
 
-use bounded_lm::{ForwardDifference, Options, Solver, StepModel};
+use bounded_lm::{ForwardDifference, Options, SecantScaling, Solver, StepModel};
 use common::expsum::ExpSum;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -52,19 +52,19 @@ fn repeated_solves_do_not_allocate() {
     let lower = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let upper = [10.0; 6];
     let mut solver = Solver::new();
-    for (model, secant_scaling, secant_scaling_delay) in [
-        (StepModel::GaussNewton, false, 2),
-        (StepModel::Adaptive, false, 2),
-        (StepModel::GaussNewton, true, 2),
-        (StepModel::Adaptive, true, 0),
-        (StepModel::GaussNewton, true, 0),
+    let adaptive = StepModel::Adaptive { delay: 2 };
+    for (model, secant_scaling) in [
+        (StepModel::GaussNewton, SecantScaling::Off),
+        (adaptive, SecantScaling::Off),
+        (StepModel::GaussNewton, SecantScaling::After { delay: 2 }),
+        (adaptive, SecantScaling::After { delay: 0 }),
+        (StepModel::GaussNewton, SecantScaling::After { delay: 0 }),
     ] {
-        let options = Options {
+        let mut options = Options {
             model,
-            secant_scaling,
-            secant_scaling_delay,
             ..Options::default()
         };
+        options.scaling.secant = secant_scaling;
         let start = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];
         // Warm-up solve sizes the workspace.
         let mut x = start;
@@ -81,7 +81,7 @@ fn repeated_solves_do_not_allocate() {
             assert!(rep.iterations > 1);
             assert_eq!(
                 n, 0,
-                "same-size solve allocated ({model:?}, secant scaling {secant_scaling})"
+                "same-size solve allocated ({model:?}, secant scaling {secant_scaling:?})"
             );
             let mut x = [1.0, 0.3, 1.0, 1.5];
             let (_, n) = counted(|| {
@@ -91,7 +91,7 @@ fn repeated_solves_do_not_allocate() {
             });
             assert_eq!(
                 n, 0,
-                "smaller solve allocated ({model:?}, secant scaling {secant_scaling})"
+                "smaller solve allocated ({model:?}, secant scaling {secant_scaling:?})"
             );
         }
     }
@@ -132,4 +132,25 @@ fn repeated_solves_do_not_allocate() {
     // The counter works: a Vec allocation is seen.
     let (_, n) = counted(|| std::hint::black_box(vec![1.0f64; 10]));
     assert!(n >= 1);
+}
+
+/// A workspace sized up front by `Solver::with_capacity` (from `Workspace::required`) covers
+/// every buffer: even the first solve allocates nothing, for the in-place and the tall QR.
+#[test]
+fn first_solve_with_capacity_does_not_allocate() {
+    let lower = [0.0; 6];
+    let upper = [10.0; 6];
+    for rows in [200, 2000] {
+        let mut problem = ExpSum::new(rows, 6);
+        let mut solver = Solver::with_capacity(rows, 6);
+        let mut x = [1.0, 0.3, 1.0, 1.5, 1.0, 4.0];
+        let options = Options::default();
+        let (rep, n) = counted(|| {
+            solver
+                .solve(&mut problem, &mut x, &lower, &upper, &options)
+                .unwrap()
+        });
+        assert!(rep.iterations > 1);
+        assert_eq!(n, 0, "first solve of {rows} rows allocated");
+    }
 }

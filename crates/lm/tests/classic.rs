@@ -505,33 +505,28 @@ fn input_errors() {
         matches!(err, SolveError::DimensionMismatch { what: "lower", .. }),
         "{err}"
     );
-    let bad = Options {
-        rel_function_tol: -1.0,
-        ..Options::default()
-    };
+    let mut bad = Options::default();
+    bad.tolerances.relative_function = -1.0;
     let err = Solver::new()
         .solve(&mut rosenbrock(), &mut x, &[-INF; 2], &[INF; 2], &bad)
         .unwrap_err();
-    assert!(err.to_string().contains("rel_function_tol"), "{err}");
+    assert!(
+        matches!(&err, SolveError::InvalidOptions(e) if e.field == "tolerances.relative_function"),
+        "{err}"
+    );
 }
 
 #[test]
 fn budgets_give_limit_codes() {
     let mut x = [-1.2, 1.0];
-    let o = Options {
-        max_iterations: 3,
-        ..Options::default()
-    };
+    let o = Options::default().with_limits(3, 200);
     let rep = Solver::new()
         .solve(&mut rosenbrock(), &mut x, &[-INF; 2], &[INF; 2], &o)
         .unwrap();
     assert_eq!(rep.outcome, Outcome::IterationLimit);
     assert_eq!(rep.iterations, 3);
     let mut x = [-1.2, 1.0];
-    let o = Options {
-        max_evaluations: 4,
-        ..Options::default()
-    };
+    let o = Options::default().with_limits(150, 4);
     let rep = Solver::new()
         .solve(&mut rosenbrock(), &mut x, &[-INF; 2], &[INF; 2], &o)
         .unwrap();
@@ -669,10 +664,7 @@ fn pulled_into_bound_face_optimum() -> [f64; 2] {
 fn optimum_on_bound_with_strong_pull_converges_within_a_few_iterations() {
     // AED calls the solver with 10 iterations: a descent that reaches the face of the box must
     // report convergence there, not creep into the iteration limit.
-    let options = Options {
-        max_iterations: 10,
-        ..Options::default()
-    };
+    let options = Options::default().with_limits(10, 200);
     let face = pulled_into_bound_face_optimum();
     for start in [[0.3, 1.0, 0.0], [0.0, 1.0, 0.0], [1.0, -3.0, 2.0]] {
         let mut x = start;
@@ -748,10 +740,7 @@ fn linear_convergence_on_a_bound_face_is_not_a_stall() {
         },
     };
     let mut x = [0.5, 1.0, 1.0];
-    let options = Options {
-        max_iterations: 30,
-        ..Options::default()
-    };
+    let options = Options::default().with_limits(30, 200);
     let rep = Solver::new()
         .solve(
             &mut prob,

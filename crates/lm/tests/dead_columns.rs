@@ -98,7 +98,7 @@ fn solve_from(prob: &mut DeadLobes, n1: f64, n2: f64, opt: &Options) -> (Report,
 
 #[test]
 fn dead_lobe_columns_do_not_fake_convergence() {
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
+    for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
         for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();
             let f0 = f_at(&mut prob, &[0.5, 0.04, n1, -0.14, n2]);
@@ -134,12 +134,12 @@ fn dead_lobe_columns_do_not_fake_convergence() {
 /// live `kd` is far from stationary, but never with a success code (3 to 6) there.
 #[test]
 fn free_dead_columns_waste_steps_but_never_claim_success() {
-    for model in [StepModel::GaussNewton, StepModel::Adaptive] {
-        let opt = Options {
+    for model in [StepModel::GaussNewton, StepModel::Adaptive { delay: 2 }] {
+        let mut opt = Options {
             model,
-            hold_dead_columns: false,
             ..Options::default()
         };
+        opt.safeguards.hold_dead_columns = false;
         for (n1, n2) in DEAD_EXPONENTS {
             let mut prob = DeadLobes::new();
             let (rep, x) = solve_from(&mut prob, n1, n2, &opt);

@@ -10,7 +10,8 @@
 mod common;
 
 use bounded_lm::{
-    ForwardDifference, Options, RadiusUpdate, Report, ResidualsOnly, Solver, StepModel,
+    ForwardDifference, Options, RadiusUpdate, Report, ResidualsOnly, SecantScaling, Solver,
+    StepModel,
 };
 use common::nist::{NAMES, NistData, NistProblem, load};
 use std::fmt::Write as _;
@@ -66,43 +67,26 @@ fn line(out: &mut String, label: &str, r: &Report) {
 fn current() -> String {
     let mut out = String::new();
     let mut solver = Solver::new();
-    let with = |model, radius_update, secant_scaling| Options {
-        model,
-        radius_update,
-        secant_scaling,
+    let adaptive = Options {
+        model: StepModel::N2FB,
         ..Options::default()
     };
+    let mut classic = Options::gauss_newton();
+    classic.radius.update = RadiusUpdate::Classic;
+    let mut gn_nosecant = Options::gauss_newton();
+    gn_nosecant.scaling.secant = SecantScaling::Off;
+    // The default without the second-order correction: its lines are those of the solver
+    // without that rule, so the option off is that solver bit for bit.
+    let mut no_correction = Options::default();
+    no_correction.safeguards.second_order_correction = false;
     let configs = [
-        (
-            "gn",
-            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, true),
-        ),
-        (
-            "adaptive",
-            Options {
-                adaptive_delay: 0,
-                ..with(StepModel::Adaptive, RadiusUpdate::Nl2sol, true)
-            },
-        ),
-        (
-            "classic",
-            with(StepModel::GaussNewton, RadiusUpdate::Classic, true),
-        ),
-        (
-            "gn-nosecant",
-            with(StepModel::GaussNewton, RadiusUpdate::Nl2sol, false),
-        ),
+        ("gn", Options::gauss_newton()),
+        ("adaptive", adaptive),
+        ("classic", classic),
+        ("gn-nosecant", gn_nosecant),
         ("n2fb", Options::n2fb()),
         ("default", Options::default()),
-        // The default before the second-order correction (2026-12-03): its lines are the
-        // former default's, so the option off is that solver bit for bit.
-        (
-            "no-correction",
-            Options {
-                second_order_correction: false,
-                ..Options::default()
-            },
-        ),
+        ("no-correction", no_correction),
     ];
     let data: Vec<NistData> = NAMES.iter().map(|n| load(n)).collect();
     for (tag, options) in configs {

@@ -2,7 +2,7 @@
 
 mod common;
 
-use bounded_lm::{Options, RadiusUpdate, StepModel};
+use bounded_lm::{Options, RadiusUpdate, SecantScaling, StepModel};
 use common::nist::{NistRun, run_all};
 
 fn summary(runs: &[NistRun]) -> String {
@@ -45,47 +45,37 @@ fn check(options: &Options, required: usize, forbid_wrong_success: bool) {
 /// The defaults (the adaptive model switching after 2 secant updates per parameter, N2FB's
 /// radius rule, the secant term in the scaling): at least 52/54 with LRE >= 4 (PORT N2FB:
 /// 46/54), and a success code (3..=6) is never returned on a wrong answer; the same with the
-/// Gauss-Newton model (the default before 2026-12-02), with and without the secant scaling,
-/// and with MINPACK's scaling.
+/// Gauss-Newton model, with and without the secant scaling, and with MINPACK's scaling.
 #[test]
 fn nist_defaults_and_gauss_newton() {
     let defaults = Options::default();
-    assert_eq!(defaults.model, StepModel::Adaptive);
-    assert_eq!(defaults.adaptive_delay, 2);
-    assert_eq!(defaults.radius_update, RadiusUpdate::Nl2sol);
-    assert!(defaults.secant_scaling);
+    assert_eq!(defaults.model, StepModel::Adaptive { delay: 2 });
+    assert_eq!(defaults.radius.update, RadiusUpdate::Nl2sol);
+    assert_eq!(defaults.scaling.secant, SecantScaling::After { delay: 2 });
     check(&defaults, 52, true);
-    let gauss_newton = Options {
-        model: StepModel::GaussNewton,
-        ..Options::default()
-    };
+    let gauss_newton = Options::gauss_newton();
     check(&gauss_newton, 52, true);
-    let no_secant = Options {
-        secant_scaling: false,
-        ..gauss_newton
-    };
+    let mut no_secant = gauss_newton;
+    no_secant.scaling.secant = SecantScaling::Off;
     check(&no_secant, 52, true);
-    // MINPACK's non-decreasing scaling (Options::scaling_decay 1): the same count, as the
-    // crate docs say.
-    let minpack = Options {
-        scaling_decay: 1.0,
-        ..Options::default()
-    };
+    // MINPACK's non-decreasing scaling (Scaling::decay 1): the same count, as
+    // docs/solver.md says.
+    let mut minpack = Options::default();
+    minpack.scaling.decay = 1.0;
     check(&minpack, 52, true);
 }
 
 /// The adaptive (NL2SOL augmented) model without the secant scaling: 52/54 since the model
 /// switch was fixed (it was 49/54 while a sign error kept it on the Gauss-Newton model); with
 /// N2FB's scaling from the first update ([`Options::n2fb`]) 51/54. Guards the figures in the
-/// crate docs and the no-false-success rule.
+/// docs/solver.md and the no-false-success rule.
 #[test]
 fn nist_adaptive() {
-    let adaptive = Options {
-        model: StepModel::Adaptive,
-        adaptive_delay: 0,
-        secant_scaling: false,
+    let mut adaptive = Options {
+        model: StepModel::N2FB,
         ..Options::default()
     };
+    adaptive.scaling.secant = SecantScaling::Off;
     check(&adaptive, 52, true);
     check(&Options::n2fb(), 51, true);
 }
@@ -94,12 +84,9 @@ fn nist_adaptive() {
 /// Gauss-Newton model, without the secant scaling: 50/54.
 #[test]
 fn nist_classic_radius() {
-    let options = Options {
-        model: StepModel::GaussNewton,
-        radius_update: RadiusUpdate::Classic,
-        secant_scaling: false,
-        ..Options::default()
-    };
+    let mut options = Options::gauss_newton();
+    options.radius.update = RadiusUpdate::Classic;
+    options.scaling.secant = SecantScaling::Off;
     let runs = run_all(&options);
     let correct = runs.iter().filter(|r| r.correct()).count();
     assert!(

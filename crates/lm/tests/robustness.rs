@@ -4,7 +4,7 @@
 mod common;
 
 use bounded_lm::problems::mgh::{Kind, Mgh};
-use bounded_lm::{Options, Outcome, Problem, Solver, StepModel};
+use bounded_lm::{Options, Outcome, Problem, SecantScaling, Solver};
 use common::mgh_run;
 
 const INF: f64 = f64::INFINITY;
@@ -85,10 +85,8 @@ fn no_singular_convergence_while_the_gradient_is_large() {
         .solve(&mut p, &mut x, &[-INF; 2], &[INF; 2], &Options::default())
         .unwrap();
     assert!(!rep.outcome.is_success() || rep.f < 1e3, "{rep:?}");
-    let lifted = Options {
-        lift_round_off_radius: true,
-        ..Options::default()
-    };
+    let mut lifted = Options::default();
+    lifted.safeguards.lift_round_off_radius = true;
     let mut x = p.start(10.0);
     let rep = Solver::new()
         .solve(&mut p, &mut x, &[-INF; 2], &[INF; 2], &lifted)
@@ -108,10 +106,8 @@ fn the_singular_test_step_at_least_x_is_what_stops_code_7_at_the_start() {
 }
 
 fn code_7_at_the_start_only_with_n2fb_test_step(prob: &mut impl Problem, x0: &[f64]) {
-    let n2fb_test = Options {
-        singular_radius_at_least_x: false,
-        ..Options::default()
-    };
+    let mut n2fb_test = Options::default();
+    n2fb_test.safeguards.singular_radius_at_least_x = false;
     let mut solve = |x: &mut [f64], options: &Options| {
         let n = x.len();
         Solver::new()
@@ -351,10 +347,7 @@ fn mgh_collection() {
 #[test]
 fn secant_scaling_solves_brown_and_dennis() {
     let f_star = 42_911.100_8;
-    let gauss_newton = Options {
-        model: StepModel::GaussNewton,
-        ..Options::default()
-    };
+    let gauss_newton = Options::gauss_newton();
     for factor in [1.0, 10.0] {
         for (options, max_iterations) in [
             (Options::n2fb(), 30),
@@ -374,21 +367,16 @@ fn secant_scaling_solves_brown_and_dennis() {
     }
 }
 
-/// MGH with the Gauss-Newton model (the default before 2026-12-02) with and without the secant
+/// MGH with the Gauss-Newton model with and without the secant
 /// term in the scaling (both with the second-order correction), and with N2FB's configuration
 /// (without it): at least 71, 65 and 69 of the 78 unbounded runs solved (70, 66 and 69 without
 /// the correction), never with a success code on a wrong unbounded answer (the defaults are
 /// checked by `mgh_collection`).
 #[test]
 fn mgh_collection_other_scalings() {
-    let gauss_newton = Options {
-        model: StepModel::GaussNewton,
-        ..Options::default()
-    };
-    let no_secant = Options {
-        secant_scaling: false,
-        ..gauss_newton.clone()
-    };
+    let gauss_newton = Options::gauss_newton();
+    let mut no_secant = gauss_newton.clone();
+    no_secant.scaling.secant = SecantScaling::Off;
     for (name, options, at_least) in [
         ("gauss-newton", gauss_newton, 71),
         ("no secant", no_secant, 65),
@@ -411,8 +399,8 @@ fn mgh_collection_other_scalings() {
     }
 }
 
-/// The scaling's decay (`Options::scaling_decay`, NL2SOL's DFAC) trades one kind of problem for
-/// another, as the crate docs say. With MINPACK's non-decreasing scaling (1) Penalty II
+/// The scaling's decay (`Scaling::decay`, NL2SOL's DFAC) trades one kind of problem for
+/// another, as docs/solver.md says. With MINPACK's non-decreasing scaling (1) Penalty II
 /// (n = 10), a curved valley, is solved from x0 where N2FB's 0.6 creeps to the iteration limit;
 /// but an exponential started steep (Jacobian columns ~1e13 at the start, ~1 at the solution)
 /// is solved only when `D` may fall with its columns. Both without the second-order
@@ -420,14 +408,10 @@ fn mgh_collection_other_scalings() {
 /// (`second_order_correction_follows_curved_valleys`).
 #[test]
 fn scaling_decay_trades_curved_valleys_for_steep_starts() {
-    let n2fb_decay = Options {
-        second_order_correction: false,
-        ..Options::default()
-    };
-    let minpack = Options {
-        scaling_decay: 1.0,
-        ..n2fb_decay.clone()
-    };
+    let mut n2fb_decay = Options::default();
+    n2fb_decay.safeguards.second_order_correction = false;
+    let mut minpack = n2fb_decay.clone();
+    minpack.scaling.decay = 1.0;
     let penalty = |options: &Options| {
         let mut p = Mgh::new(Kind::PenaltyII, 10, 20);
         let mut x = p.start(1.0);
@@ -458,7 +442,7 @@ fn scaling_decay_trades_curved_valleys_for_steep_starts() {
     );
 }
 
-/// The second-order correction of a rejected step (`Options::second_order_correction`) lets the
+/// The second-order correction of a rejected step (`Safeguards::second_order_correction`) lets the
 /// steps follow a curved valley where the quadratic models see only its tangent: MGH's Penalty II
 /// (n = 10) from x0 and Osborne 1 from 10 x0 reach their listed minima with a success code
 /// (measured: 107 and 62 iterations), and creep to the iteration limit without it (f 1.6e-3 and
@@ -467,10 +451,8 @@ fn scaling_decay_trades_curved_valleys_for_steep_starts() {
 /// after at most 40).
 #[test]
 fn second_order_correction_follows_curved_valleys() {
-    let without = Options {
-        second_order_correction: false,
-        ..Options::default()
-    };
+    let mut without = Options::default();
+    without.safeguards.second_order_correction = false;
     for (kind, n, m, factor) in [
         (Kind::PenaltyII, 10, 20, 1.0),
         (Kind::Osborne1, 5, 33, 10.0),
@@ -495,10 +477,7 @@ fn second_order_correction_follows_curved_valleys() {
             "{kind:?}: {rep:?}"
         );
         // The corrections' evaluations count against the budget like any other.
-        let (rep, _) = solve(&Options {
-            max_evaluations: 40,
-            ..Options::default()
-        });
+        let (rep, _) = solve(&Options::default().with_limits(150, 40));
         assert_eq!(rep.outcome, Outcome::EvaluationLimit, "{kind:?}: {rep:?}");
         assert!(rep.residual_evaluations <= 40, "{kind:?}: {rep:?}");
     }
@@ -508,14 +487,12 @@ fn second_order_correction_follows_curved_valleys() {
 #[test]
 fn scaling_decay_outside_zero_to_one_is_refused() {
     for decay in [0.0, -0.5, 1.5, f64::NAN] {
-        let options = Options {
-            scaling_decay: decay,
-            ..Options::default()
-        };
+        let mut options = Options::default();
+        options.scaling.decay = decay;
         let mut x = [1.0, 30.0];
         let err = Solver::new()
             .solve(&mut SteepExp, &mut x, &[-INF; 2], &[INF; 2], &options)
             .unwrap_err();
-        assert!(err.to_string().contains("scaling_decay"), "{decay}: {err}");
+        assert!(err.to_string().contains("scaling.decay"), "{decay}: {err}");
     }
 }

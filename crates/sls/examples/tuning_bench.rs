@@ -10,23 +10,23 @@
 //!     [--second-order-correction] [--scaling-decay 0.6]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
-//! `--adaptive-delay K` secant updates per parameter (`bounded_lm::Options::adaptive_delay`,
+//! `--adaptive-delay K` secant updates per parameter (`bounded_lm::StepModel::Adaptive`,
 //! default 2; 0 is N2FB's rule); `--gauss-newton` never uses the augmented model (the default
 //! before 2026-12-02); `--no-secant-scaling` leaves the secant term out of the scaling and
 //! `--secant-delay K` sets after how many secant updates per parameter it enters
-//! (`bounded_lm::Options::secant_scaling`, `secant_scaling_delay`; 0 is N2FB's rule).
+//! (`bounded_lm::SecantScaling`; 0 is N2FB's rule).
 //! `--hold-dead-columns` holds numerically dead variables in the descents, as the library's
-//! default does (`bounded_lm::Options::hold_dead_columns`; the searches leave them free).
+//! default does (`bounded_lm::Safeguards::hold_dead_columns`; the searches leave them free).
 //! `--singular-radius-at-least-x` makes the singular-convergence test step at least `||D x||`
-//! long, as the library's default does (`bounded_lm::Options::singular_radius_at_least_x`; the
+//! long, as the library's default does (`bounded_lm::Safeguards::singular_radius_at_least_x`; the
 //! searches use N2FB's LMAXS alone). `--stop-at-minimum-norm-step` ends the search for the
 //! Levenberg parameter at a singular model's minimum-norm step, as the library's default does
-//! (`bounded_lm::Options::stop_at_minimum_norm_step`; the searches keep searching).
+//! (`bounded_lm::Safeguards::stop_at_minimum_norm_step`; the searches keep searching).
 //! `--second-order-correction` corrects a rejected descent step once for the residuals'
-//! curvature, as the library's default does (`bounded_lm::Options::second_order_correction`;
+//! curvature, as the library's default does (`bounded_lm::Safeguards::second_order_correction`;
 //! the searches do not).
 //! `--scaling-decay F` sets how fast the descents' scaling may fall
-//! (`bounded_lm::Options::scaling_decay`; N2FB's 0.6 by default, 1 is MINPACK's rule).
+//! (`bounded_lm::Scaling::decay`; N2FB's 0.6 by default, 1 is MINPACK's rule).
 //! `--no-early-exit` computes every full-data RMSE in full (the
 //! trials' decisions are the same; only the computed rows and the CPU time differ).
 //! `--k 3,5,10,20` sweeps the per-call iteration limit of AED and AERS, `--stall 0,25` their
@@ -69,6 +69,15 @@ struct Args {
 }
 
 fn parse() -> Result<Args, String> {
+    let search = sls::DescentModel::default().options();
+    let secant_delay = match search.scaling.secant {
+        bounded_lm::SecantScaling::After { delay } => Some(delay),
+        bounded_lm::SecantScaling::Off => None,
+    };
+    let adaptive_delay = match search.model {
+        bounded_lm::StepModel::Adaptive { delay } => delay,
+        bounded_lm::StepModel::GaussNewton => 0,
+    };
     let mut a = Args {
         seeds: 100,
         cutoff: 10.0,
@@ -84,20 +93,14 @@ fn parse() -> Result<Args, String> {
         sigma: 0.1,
         early_exit: true,
         gauss_newton: false,
-        secant_scaling: bounded_lm::Options::default().secant_scaling,
-        secant_delay: bounded_lm::Options::default().secant_scaling_delay,
-        adaptive_delay: bounded_lm::Options::default().adaptive_delay,
-        hold_dead_columns: sls::DescentModel::default().options().hold_dead_columns,
-        singular_radius_at_least_x: sls::DescentModel::default()
-            .options()
-            .singular_radius_at_least_x,
-        stop_at_minimum_norm_step: sls::DescentModel::default()
-            .options()
-            .stop_at_minimum_norm_step,
-        second_order_correction: sls::DescentModel::default()
-            .options()
-            .second_order_correction,
-        scaling_decay: sls::DescentModel::default().options().scaling_decay,
+        secant_scaling: secant_delay.is_some(),
+        secant_delay: secant_delay.unwrap_or(0),
+        adaptive_delay,
+        hold_dead_columns: search.safeguards.hold_dead_columns,
+        singular_radius_at_least_x: search.safeguards.singular_radius_at_least_x,
+        stop_at_minimum_norm_step: search.safeguards.stop_at_minimum_norm_step,
+        second_order_correction: search.safeguards.second_order_correction,
+        scaling_decay: search.scaling.decay,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {

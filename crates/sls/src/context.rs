@@ -288,19 +288,22 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// [`TrialContext::set_adaptive_delay`] secant updates per parameter, or Gauss-Newton only
     /// (the default before 2026-12-02). Switching from the first update made AED, AERS and RPLS
     /// slower on the paper's tuning instance; the delayed switch leaves AED's short descents
-    /// unchanged (bounded-lm's crate docs, "Step model in the searches"). For comparisons.
+    /// unchanged (`docs/solver.md`, "Step model and secant scaling"). For comparisons.
     pub fn set_step_model(&mut self, model: bounded_lm::StepModel) {
         self.options.model = model;
     }
 
     /// Whether the descents put the secant term in the scaling
-    /// (`bounded_lm::Options::secant_scaling`, N2FB's rule, on by default) and after how many
-    /// secant updates per parameter (`bounded_lm::Options::secant_scaling_delay`, default 2;
+    /// (`bounded_lm::SecantScaling`, N2FB's rule, on by default) and after how many
+    /// secant updates per parameter (its delay, default 2;
     /// with 0, N2FB's rule, AED measured 8% slower on the paper's tuning instance: bounded-lm's
-    /// crate docs). For comparisons.
+    /// `docs/solver.md`). For comparisons.
     pub fn set_secant_scaling(&mut self, on: bool, delay: usize) {
-        self.options.secant_scaling = on;
-        self.options.secant_scaling_delay = delay;
+        self.options.scaling.secant = if on {
+            bounded_lm::SecantScaling::After { delay }
+        } else {
+            bounded_lm::SecantScaling::Off
+        };
     }
 
     /// The descents' solver configuration ([`DescentModel`]; replaces the step model and the
@@ -310,43 +313,46 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     }
 
     /// Whether the descents hold the variables of numerically dead Jacobian columns
-    /// (`bounded_lm::Options::hold_dead_columns`; off in the searches, see
+    /// (`bounded_lm::Safeguards::hold_dead_columns`; off in the searches, see
     /// [`DescentModel::options`]). For comparisons.
     pub fn set_hold_dead_columns(&mut self, on: bool) {
-        self.options.hold_dead_columns = on;
+        self.options.safeguards.hold_dead_columns = on;
     }
 
     /// Whether the descents' singular-convergence test step is at least `||D x||` long
-    /// (`bounded_lm::Options::singular_radius_at_least_x`; off in the searches, see
+    /// (`bounded_lm::Safeguards::singular_radius_at_least_x`; off in the searches, see
     /// [`DescentModel::options`]). For comparisons.
     pub fn set_singular_radius_at_least_x(&mut self, on: bool) {
-        self.options.singular_radius_at_least_x = on;
+        self.options.safeguards.singular_radius_at_least_x = on;
     }
 
     /// Whether the descents stop the search for the Levenberg parameter at the minimum-norm
-    /// step of a singular model (`bounded_lm::Options::stop_at_minimum_norm_step`; off in the
+    /// step of a singular model (`bounded_lm::Safeguards::stop_at_minimum_norm_step`; off in the
     /// searches, see [`DescentModel::options`]). For comparisons.
     pub fn set_stop_at_minimum_norm_step(&mut self, on: bool) {
-        self.options.stop_at_minimum_norm_step = on;
+        self.options.safeguards.stop_at_minimum_norm_step = on;
     }
 
     /// Whether a rejected descent step gets one second-order correction
-    /// (`bounded_lm::Options::second_order_correction`; off in the searches, see
+    /// (`bounded_lm::Safeguards::second_order_correction`; off in the searches, see
     /// [`DescentModel::options`]). For comparisons.
     pub fn set_second_order_correction(&mut self, on: bool) {
-        self.options.second_order_correction = on;
+        self.options.safeguards.second_order_correction = on;
     }
 
-    /// How fast the descents' scaling may fall (`bounded_lm::Options::scaling_decay`, N2FB's
+    /// How fast the descents' scaling may fall (`bounded_lm::Scaling::decay`, N2FB's
     /// DFAC 0.6 by default; 1 is MINPACK's non-decreasing scaling). For comparisons.
     pub fn set_scaling_decay(&mut self, decay: f64) {
-        self.options.scaling_decay = decay;
+        self.options.scaling.decay = decay;
     }
 
     /// Secant updates per parameter before the descents' adaptive model choice may switch
-    /// to the augmented model (`bounded_lm::Options::adaptive_delay`). For comparisons.
+    /// to the augmented model (the delay of `bounded_lm::StepModel::Adaptive`; no effect on the
+    /// Gauss-Newton model, which never switches). For comparisons.
     pub fn set_adaptive_delay(&mut self, delay: usize) {
-        self.options.adaptive_delay = delay;
+        if let bounded_lm::StepModel::Adaptive { delay: d } = &mut self.options.model {
+            *d = delay;
+        }
     }
 
     /// The evaluations counted so far.
@@ -548,8 +554,8 @@ impl<O: Objective> Search for TrialContext<'_, O> {
         let n = self.objective.sample_count();
         let rows = if rows.count(n) >= n { Rows::Full } else { rows };
         let m = self.objective.select(&mut self.work, rows, &mut self.rng);
-        self.options.max_iterations = limits.iterations;
-        self.options.max_evaluations = limits.evaluations;
+        self.options.limits.iterations = limits.iterations;
+        self.options.limits.evaluations = limits.evaluations;
         let mut fit = Fit {
             objective: self.objective,
             work: &mut self.work,

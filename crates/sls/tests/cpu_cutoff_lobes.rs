@@ -39,10 +39,7 @@ fn one_full_data_iteration(objective: &BrdfObjective) -> f64 {
     let mut rng = <SearchRng as rand::SeedableRng>::seed_from_u64(3);
     let mut ws = objective.workspace();
     let m = objective.select(&mut ws, Rows::Full, &mut rng);
-    let options = Options {
-        max_iterations: 1,
-        ..Options::default()
-    };
+    let options = Options::default().with_limits(1, 200);
     let mut solver = Solver::new();
     let mut worst = 0.0f64;
     for _ in 0..3 {

@@ -145,7 +145,7 @@ fn nist_case(data: &nist::NistData, start: usize) -> CaseResult {
 
 /// Relative projected-gradient tolerance for the boxed MGH cases: right when the projected
 /// gradient at the end is at most this fraction of the gradient at the (projected) start, or
-/// below [`MGH_KKT_ABS`]. The same criterion as bounded-lm's own MGH table (`crates/lm/MGH.md`).
+/// below [`MGH_KKT_ABS`]. The same criterion as bounded-lm's own MGH table (`results/lm/mgh-default.md`).
 const MGH_KKT_REL: f64 = 1e-6;
 /// Absolute projected-gradient tolerance for the boxed MGH cases (zero-residual minima).
 const MGH_KKT_ABS: f64 = 1e-10;

@@ -22,7 +22,7 @@
 //! assert!(prob.reaches_minimum(rep.f));
 //! ```
 
-use crate::{Options, Problem, StepModel};
+use crate::{Options, Problem, Scaling};
 use std::f64::consts::PI;
 
 /// The 35 problems, numbered as in MGH's paper.
@@ -391,14 +391,10 @@ impl Bounds {
 /// budgets of 5000. It is pinned, not [`Options::default`], so the boxes (and every boxed
 /// result measured in them) do not move when the defaults change.
 pub fn box_reference_options() -> Options {
-    Options {
-        max_iterations: 5000,
-        max_evaluations: 5000,
-        model: StepModel::GaussNewton,
-        scaling_decay: Options::NL2SOL_SCALING_DECAY,
-        second_order_correction: false,
-        ..Options::default()
-    }
+    let mut options = Options::gauss_newton().with_limits(5000, 5000);
+    options.scaling.decay = Scaling::NL2SOL_DECAY;
+    options.safeguards.second_order_correction = false;
+    options
 }
 
 impl Mgh {

@@ -1,0 +1,266 @@
+//! The three forms of the free-set quadratic model that the trust-region iteration solves:
+//! the Gauss-Newton model by Givens rotations, the same in its dual form when it has fewer rows
+//! than variables, and the augmented model by Cholesky factorizations.
+
+use super::factorisation::triangular_full_rank;
+use super::subproblem::Subproblem;
+use crate::linalg::{
+    backward_solve, cholesky_shifted, dot, forward_solve, norm, shifted_triangular, upper_solve,
+    upper_transpose_solve,
+};
+
+/// Relative pivot threshold at which the augmented model `D^-1 (J^T J + S) D^-1` counts as
+/// singular or indefinite (no Newton step).
+pub(super) const RANK_TOL: f64 = 1e-14;
+
+/// Relative pivot threshold for shifted (lambda > 0) factorizations.
+pub(super) const SHIFTED_TOL: f64 = 1e-15;
+
+/// The Gauss-Newton model in least-squares form `0.5 ||u + T z||^2`, `T` upper triangular;
+/// shifted systems are factored by Givens rotations of `[T; sqrt(lambda) I]` (MINPACK's
+/// qrsolv), so `J^T J` is never formed.
+pub(super) struct LeastSquaresModel<'a> {
+    pub(super) n: usize,
+    pub(super) t: &'a [f64],
+    pub(super) u: &'a [f64],
+    /// `T_lambda` with `T_lambda^T T_lambda = T^T T + lambda I`.
+    pub(super) t_lambda: &'a mut [f64],
+    /// The rotated right-hand side.
+    pub(super) u_lambda: &'a mut [f64],
+    /// Givens scratch rows ([`shifted_scratch_len`]).
+    pub(super) row: &'a mut [f64],
+}
+
+impl Subproblem for LeastSquaresModel<'_> {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+        let n = self.n;
+        if !triangular_full_rank(self.t, n) {
+            return None;
+        }
+        for i in 0..n {
+            z[i] = -self.u[i];
+        }
+        upper_solve(self.t, n, z);
+        Some(0.5 * dot(self.u, self.u))
+    }
+
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+        let n = self.n;
+        shifted_triangular(
+            self.t,
+            self.u,
+            n,
+            lam,
+            self.t_lambda,
+            self.u_lambda,
+            self.row,
+        );
+        if (0..n).any(|i| self.t_lambda[i * n + i] == 0.0) {
+            return false;
+        }
+        for i in 0..n {
+            z[i] = -self.u_lambda[i];
+        }
+        upper_solve(self.t_lambda, n, z);
+        true
+    }
+
+    fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+        let n = self.n;
+        q[..n].copy_from_slice(&z[..n]);
+        upper_transpose_solve(self.t_lambda, n, q);
+        norm(&q[..n])
+    }
+
+    fn bracket_data(&self) -> (f64, f64, f64) {
+        least_squares_bracket_data(self.t, self.u, self.n)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        least_squares_steepest_descent(self.t, self.u, self.n, z);
+    }
+}
+
+/// Gradient norm `||T^T u||`, the bound `||T^T T|| <= ||T||_F^2` and 0, the smallest possible
+/// diagonal entry of the positive semidefinite `T^T T`.
+pub(super) fn least_squares_bracket_data(t: &[f64], u: &[f64], n: usize) -> (f64, f64, f64) {
+    let mut g2 = 0.0;
+    for j in 0..n {
+        let v = dot(&t[j * n..j * n + j + 1], &u[..j + 1]);
+        g2 += v * v;
+    }
+    let f2 = dot(&t[..n * n], &t[..n * n]);
+    (g2.sqrt(), f2, 0.0)
+}
+
+/// `z = -T^T u`, the negative gradient of `0.5 ||u + T z||^2` at 0.
+pub(super) fn least_squares_steepest_descent(t: &[f64], u: &[f64], n: usize, z: &mut [f64]) {
+    for j in 0..n {
+        z[j] = -dot(&t[j * n..j * n + j + 1], &u[..j + 1]);
+    }
+}
+
+/// The Gauss-Newton model `0.5 ||u + T z||^2` when `T` has only `k < n` nonzero rows (fewer
+/// residuals than free variables, as in AED's 25-row descents of many-lobe models), solved in
+/// its dual form: `(T^T T + lambda I) z = -T^T u` has the solution `z = -T_k^T w` with
+/// `(T_k T_k^T + lambda I) w = u_k`, a `k x k` system. The primal Givens factorization costs
+/// `O(n^3)` per lambda (0.2 s per step at 16 lobes, seconds at 50, all of it between two calls
+/// of the problem, so no CPU cutoff could interrupt it); this costs `O(k^3 + k n)` after the
+/// Gram matrix (`O(k^2 n)`, once per model). The model is singular, so there is no Newton step.
+pub(super) struct WideLeastSquaresModel<'a> {
+    pub(super) n: usize,
+    pub(super) k: usize,
+    pub(super) t: &'a [f64],
+    pub(super) u: &'a [f64],
+    /// `G = T_k T_k^T` (symmetric, `k x k`, column-major).
+    pub(super) gram: &'a mut [f64],
+    /// Lower Cholesky factor of `G + lambda I`.
+    pub(super) chol: &'a mut [f64],
+    /// `w = (G + lambda I)^-1 u_k` of the last shifted system.
+    pub(super) w: &'a mut [f64],
+    /// Scratch: `(G + lambda I)^-1 w`.
+    pub(super) v: &'a mut [f64],
+}
+
+impl WideLeastSquaresModel<'_> {
+    /// Forms the Gram matrix; `t` is `n x n` column-major with rows `>= k` zero.
+    pub(super) fn with_gram(self) -> Self {
+        let (n, k) = (self.n, self.k);
+        debug_assert!(k < n);
+        self.gram.fill(0.0);
+        // T is upper triangular: T[a, j] = t[j n + a], nonzero only for a <= j and a < k.
+        for j in 0..n {
+            let col = &self.t[j * n..j * n + (j + 1).min(k)];
+            for (b, &tb) in col.iter().enumerate() {
+                for (a, &ta) in col[..=b].iter().enumerate() {
+                    self.gram[b * k + a] += ta * tb;
+                }
+            }
+        }
+        for b in 0..k {
+            for a in 0..b {
+                self.gram[a * k + b] = self.gram[b * k + a];
+            }
+        }
+        self
+    }
+}
+
+impl Subproblem for WideLeastSquaresModel<'_> {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn newton(&mut self, _z: &mut [f64]) -> Option<f64> {
+        None
+    }
+
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+        let (n, k) = (self.n, self.k);
+        if !cholesky_shifted(self.gram, lam, k, SHIFTED_TOL, self.chol) {
+            return false;
+        }
+        self.w.copy_from_slice(&self.u[..k]);
+        forward_solve(self.chol, k, self.w);
+        backward_solve(self.chol, k, self.w);
+        // z = -T_k^T w: z_j = -sum_{a <= min(j, k-1)} T[a, j] w_a.
+        for j in 0..n {
+            let rows = (j + 1).min(k);
+            z[j] = -dot(&self.t[j * n..j * n + rows], &self.w[..rows]);
+        }
+        true
+    }
+
+    /// `z^T (T^T T + lambda I)^-1 z = w^T G (G + lambda I)^-1 w` for `z = -T^T w` (push-through
+    /// identity): a sum of positive terms in G's eigenbasis, so no cancellation.
+    fn inverse_norm(&mut self, _z: &[f64], _q: &mut [f64]) -> f64 {
+        let k = self.k;
+        self.v.copy_from_slice(self.w);
+        forward_solve(self.chol, k, self.v);
+        backward_solve(self.chol, k, self.v);
+        let mut s = 0.0;
+        for a in 0..k {
+            s += self.w[a] * dot(&self.gram[a * k..(a + 1) * k], self.v);
+        }
+        s.max(0.0).sqrt()
+    }
+
+    fn bracket_data(&self) -> (f64, f64, f64) {
+        least_squares_bracket_data(self.t, self.u, self.n)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        least_squares_steepest_descent(self.t, self.u, self.n, z);
+    }
+}
+
+/// The augmented model in normal form `g^T z + 0.5 z^T H z` (possibly indefinite), factored by
+/// Cholesky of `H + lambda I`.
+pub(super) struct QuadraticModel<'a> {
+    pub(super) n: usize,
+    pub(super) h: &'a [f64],
+    pub(super) g: &'a [f64],
+    /// Lower Cholesky factor of the last shifted system.
+    pub(super) chol: &'a mut [f64],
+}
+
+impl Subproblem for QuadraticModel<'_> {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+        let n = self.n;
+        if !cholesky_shifted(self.h, 0.0, n, RANK_TOL, self.chol) {
+            return None;
+        }
+        for i in 0..n {
+            z[i] = -self.g[i];
+        }
+        forward_solve(self.chol, n, z);
+        backward_solve(self.chol, n, z);
+        Some(-0.5 * dot(self.g, z))
+    }
+
+    fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+        let n = self.n;
+        if !cholesky_shifted(self.h, lam, n, SHIFTED_TOL, self.chol) {
+            return false;
+        }
+        for i in 0..n {
+            z[i] = -self.g[i];
+        }
+        forward_solve(self.chol, n, z);
+        backward_solve(self.chol, n, z);
+        true
+    }
+
+    fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+        let n = self.n;
+        q[..n].copy_from_slice(&z[..n]);
+        forward_solve(self.chol, n, q);
+        norm(&q[..n])
+    }
+
+    fn bracket_data(&self) -> (f64, f64, f64) {
+        let n = self.n;
+        let mut hnorm = 0.0f64;
+        let mut min_diag = f64::INFINITY;
+        for j in 0..n {
+            let col: f64 = self.h[j * n..(j + 1) * n].iter().map(|v| v.abs()).sum();
+            hnorm = hnorm.max(col);
+            min_diag = min_diag.min(self.h[j * n + j]);
+        }
+        (norm(self.g), hnorm, min_diag)
+    }
+
+    fn steepest_descent(&self, z: &mut [f64]) {
+        for (zi, gi) in z.iter_mut().zip(self.g) {
+            *zi = -gi;
+        }
+    }
+}
