@@ -126,6 +126,10 @@ pub struct CheckArgs {
     /// Threads to estimate wall time for (default: the spec's, else all CPUs).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Compute every instance's best-known RMSE, however large (by default only instances of
+    /// at most 20000 samples; `run` computes the others).
+    #[arg(long)]
+    pub best_known: bool,
 }
 
 /// `brdf-sls plot` and `brdf-sls stats`.
