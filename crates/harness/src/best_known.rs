@@ -12,9 +12,18 @@
 //!   log-uniform in n whatever the instance's own start distribution: the best-known RMSE is a
 //!   property of the data and the model, not of the search setting, and uniform draws of n in
 //!   [0, 10000] mostly start dead or overflowing lobes (`results/ablation-coords-starts`): with
-//!   them, 32 starts on the Krylon blue paint found 0.059997 instead of 0.036886.
+//!   them, 32 starts on the Krylon blue paint found 0.059997 instead of 0.036886;
+//! - one from the optimum of each nested layout (all lobes isotropic; the last lobe removed,
+//!   i.e. dead), found the same way, at most [`MAX_NESTED`] of them: a layout's best-known
+//!   RMSE is then never above that of a layout nested in it (random starts alone left two
+//!   anisotropic lobes on the acrylic paint at 500 nm at 0.060916, above the 0.049528 of two
+//!   isotropic lobes, and three isotropic lobes at 450 nm at 0.006958, above two lobes'
+//!   0.006618).
 //!
-//! The best-known RMSE is the lowest full-data RMSE seen. Everything is seeded and nothing
+//! The best of all is descended from once more (the polish), and the record says which start
+//! led to it and what was tried ([`BestKnown::provenance`]). The best-known RMSE is the lowest
+//! full-data RMSE seen. A trial that goes lower is reported by `run` and `stats`
+//! ([`below_best_known`]). Everything is seeded and nothing
 //! reads a clock, so the number is the same on every run with the same evaluation kernel
 //! (kernels agree to rounding). Runs record it in their session line of `trials.jsonl`, and
 //! `stats` reports it beside every result.
@@ -404,37 +413,75 @@ mod tests {
         assert!((paper - ours).abs() < 1e-6 * ours, "{paper} vs {ours}");
     }
 
-    /// The acrylic paint at 500 nm without a value limit, fitted with two anisotropic lobes:
-    /// the 32 random starts alone end at 0.060916, above the optimum of one anisotropic lobe
-    /// (a nested layout: the second lobe dead). With the nested layouts every layout's
-    /// best-known RMSE is at most those of the layouts nested in it.
+    /// The acrylic paint: random starts alone (no nested layouts) ended two anisotropic lobes
+    /// at 500 nm at 0.060916, above the 0.049528 of two isotropic lobes, and three isotropic
+    /// lobes at 450 nm (values up to 1) at 0.006958, above the 0.006618 of two. With the
+    /// nested layouts a layout's best-known RMSE is at most those of the layouts nested in it.
     #[test]
     fn nested_layouts_bound_the_best_known() {
         let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/data");
-        let acryl = |kind: &str, lobes: usize| {
+        let acryl = |wavelength: u32, max_value: &str, kind: &str, lobes: usize| {
             let text = format!(
                 "seed = 1\ntrials = 1\n[budget]\ncpu_seconds = 1\n[[instance]]\nname = \"a\"\n\
                  targets = [0.04]\n[instance.file]\npath = \"acryl_blue.brdf\"\n\
-                 format = \"cornell\"\nwavelength = 500\n[instance.model]\n\
-                 kind = \"{kind}\"\nlobes = {lobes}\n[[algorithm]]\nkind = \"rpls\"\n"
+                 format = \"cornell\"\nwavelength = {wavelength}\n{max_value}\
+                 [instance.model]\nkind = \"{kind}\"\nlobes = {lobes}\n\
+                 [[algorithm]]\nkind = \"rpls\"\n"
             );
             let s = Spec::parse(&text, "a.toml", "a", &data).unwrap();
             let built = crate::instance::build(&s.instances[0]).unwrap();
             compute(&s.instances[0], &built).unwrap()
         };
-        let two = acryl("anisotropic", 2);
-        let one = acryl("anisotropic", 1);
-        let two_iso = acryl("isotropic", 2);
-        let one_iso = acryl("isotropic", 1);
         let at_most = |a: &BestKnown, b: &BestKnown| a.rmse <= b.rmse * (1.0 + 1e-12);
-        assert!(at_most(&two, &one), "{two:?} vs {one:?}");
+        let two = acryl(500, "", "anisotropic", 2);
+        let two_iso = acryl(500, "", "isotropic", 2);
+        let one = acryl(500, "", "anisotropic", 1);
         assert!(at_most(&two, &two_iso), "{two:?} vs {two_iso:?}");
-        assert!(at_most(&one, &one_iso), "{one:?} vs {one_iso:?}");
-        assert!(at_most(&two_iso, &one_iso), "{two_iso:?} vs {one_iso:?}");
+        assert!(at_most(&two, &one), "{two:?} vs {one:?}");
         let how = two.provenance.unwrap();
         assert!(
-            how.contains("nested layout with 1 anisotropic lobe"),
+            how.starts_with("lowest from the optimum of the nested layout with 2 isotropic lobes"),
             "{how}"
+        );
+        let three = acryl(450, "max_value = 1.0\n", "isotropic", 3);
+        let two = acryl(450, "max_value = 1.0\n", "isotropic", 2);
+        assert!(at_most(&three, &two), "{three:?} vs {two:?}");
+    }
+
+    #[test]
+    fn a_trial_below_the_best_known_is_reported() {
+        let mut s = spec("[0.5]", 0.1);
+        let recorded = BestKnown {
+            rmse: 0.2,
+            from_truth: None,
+            starts: STARTS,
+            seed: SEED,
+            provenance: None,
+        };
+        resolve(&mut s, &BTreeMap::from([("t".to_string(), recorded)])).unwrap();
+        let record = |rmse: f64| crate::store::TrialRecord {
+            key: "t/RPLS/0".into(),
+            instance: "t".into(),
+            config: "RPLS".into(),
+            trial: 0,
+            seed: 1,
+            target: 0.5,
+            budget: sls::Budget::default(),
+            result: sls::TrialResult {
+                stop: sls::StopReason::CpuBudget,
+                reached_at: None,
+                ended_at: sls::Stamp::default(),
+                best_rmse: rmse,
+                best_x: vec![],
+                trace: vec![],
+                counters: vec![],
+            },
+        };
+        assert!(below_best_known(&s, &[record(0.2), record(0.3)]).is_empty());
+        let w = below_best_known(&s, &[record(0.3), record(0.19)]).join("\n");
+        assert!(
+            w.contains("trial t/RPLS/0 reached RMSE 0.190000, 5.000% below the recorded best-known RMSE 0.200000"),
+            "{w}"
         );
     }
 

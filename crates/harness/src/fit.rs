@@ -274,7 +274,7 @@ fn no_candidate(objective: &sls::BrdfObjective, result: &TrialResult, budget: f6
         let cost = one_evaluation_seconds(objective);
         format!(
             "the budget of {budget} CPU s ended before the first evaluation; one full-data \
-             evaluation of {} samples with {} free parameters took {cost:.3} s here: raise \
+             evaluation of {} samples with {} free parameters took {cost:.2e} s here: raise \
              --cpu-seconds (a descent costs many evaluations) or fit fewer lobes",
             objective.sample_count(),
             objective.dim()

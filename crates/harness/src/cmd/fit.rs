@@ -60,7 +60,8 @@ pub fn fit(a: FitArgs) -> Result<()> {
     }
     match &fit.polish {
         Some(p) => say!(
-            "polish: RMSE {:.17} before, {:.17} after {} full-data descent(s) ({:.3} wall s)",
+            "polish: the search's best RMSE {:.17} became {:.17} after {} full-data \
+             descent(s) ({:.4} wall s)",
             p.rmse_before,
             p.rmse_after,
             p.descents,

@@ -60,12 +60,13 @@ impl<'a, O: Objective> Watched<'a, O> {
         }
     }
 
-    /// Notes a full-data RMSE; prints when a second has passed since the last line.
-    fn saw(&self, rmse: f64) {
+    /// Notes a full-data RMSE, if any; prints when a second has passed since the last line
+    /// (checked on every call: a search may spend seconds on subsamples alone).
+    fn saw(&self, rmse: Option<f64>) {
         let Ok(mut seen) = self.seen.lock() else {
             return;
         };
-        if rmse < seen.best {
+        if let Some(rmse) = rmse.filter(|&r| r < seen.best) {
             seen.best = rmse;
         }
         if seen.shown.elapsed() < Duration::from_secs(1) || !seen.best.is_finite() {
@@ -119,14 +120,12 @@ impl<O: Objective> Objective for Watched<'_, O> {
     }
     fn rmse(&self, ws: &mut Self::Workspace, x: &[f64]) -> f64 {
         let rmse = self.inner.rmse(&mut ws.inner, x);
-        self.saw(rmse);
+        self.saw(Some(rmse));
         rmse
     }
     fn rmse_below(&self, ws: &mut Self::Workspace, x: &[f64], bound: f64) -> (Option<f64>, usize) {
         let (rmse, rows) = self.inner.rmse_below(&mut ws.inner, x, bound);
-        if let Some(rmse) = rmse {
-            self.saw(rmse);
-        }
+        self.saw(rmse);
         (rmse, rows)
     }
     fn select(&self, ws: &mut Self::Workspace, rows: Rows, rng: &mut SearchRng) -> usize {
@@ -136,14 +135,14 @@ impl<O: Objective> Objective for Watched<'_, O> {
     }
     fn residuals(&self, ws: &mut Self::Workspace, x: &[f64], r: &mut [f64]) -> bool {
         let ok = self.inner.residuals(&mut ws.inner, x, r);
-        if ok && ws.full && !r.is_empty() {
-            let sum: f64 = r.iter().map(|v| v * v).sum();
-            self.saw((sum / r.len() as f64).sqrt());
-        }
+        let full = ok && ws.full && !r.is_empty();
+        self.saw(full.then(|| (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt()));
         ok
     }
     fn jacobian(&self, ws: &mut Self::Workspace, x: &[f64], jac: &mut [f64]) -> bool {
-        self.inner.jacobian(&mut ws.inner, x, jac)
+        let ok = self.inner.jacobian(&mut ws.inner, x, jac);
+        self.saw(None);
+        ok
     }
     fn natural_value(&self, i: usize, x: f64) -> f64 {
         self.inner.natural_value(i, x)
