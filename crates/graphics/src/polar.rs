@@ -541,6 +541,21 @@ fn ring_step(r: f64) -> f64 {
     nice * mag
 }
 
+/// A panel's title: the incident angle as used (not rounded: a panel at 9.5 degrees must not
+/// read "10") and the sample counts.
+fn panel_title(panel: &PolarPanel) -> String {
+    let angle = panel.theta_i_deg;
+    if panel.dropped.is_empty() {
+        format!("incident {angle}° ({} measured)", panel.measured.len())
+    } else {
+        format!(
+            "incident {angle}° ({} measured, {} dropped)",
+            panel.measured.len(),
+            panel.dropped.len()
+        )
+    }
+}
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     plot: &PolarPlot,
@@ -548,23 +563,7 @@ fn draw_panel<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let area = area
-        .titled(
-            &if panel.dropped.is_empty() {
-                format!(
-                    "incident {:.0}° ({} measured)",
-                    panel.theta_i_deg,
-                    panel.measured.len()
-                )
-            } else {
-                format!(
-                    "incident {:.0}° ({} measured, {} dropped)",
-                    panel.theta_i_deg,
-                    panel.measured.len(),
-                    panel.dropped.len()
-                )
-            },
-            ("sans-serif", 17),
-        )
+        .titled(&panel_title(panel), ("sans-serif", 17))
         .map_err(e)?
         .margin(4, 6, 10, 10);
     let r = panel.r_max;
@@ -800,6 +799,25 @@ fn draw_legend<DB: DrawingBackend>(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_panel_title_shows_the_incident_angle_as_used() {
+        let panel = |t: f64| super::PolarPanel {
+            theta_i_deg: t,
+            measured: Vec::new(),
+            dropped: Vec::new(),
+            curves: Vec::new(),
+            r_max: 1.0,
+        };
+        assert_eq!(
+            super::panel_title(&panel(9.5)),
+            "incident 9.5° (0 measured)"
+        );
+        assert_eq!(
+            super::panel_title(&panel(35.0)),
+            "incident 35° (0 measured)"
+        );
+    }
+
     use super::*;
     use brdf_model::{Lobe, named_params};
 

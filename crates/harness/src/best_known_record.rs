@@ -16,4 +16,9 @@ pub struct BestKnown {
     pub starts: usize,
     /// Their seed.
     pub seed: u64,
+    /// How the lowest RMSE was obtained: which start led to it (the truth, a random start, the
+    /// optimum of a nested layout) and what was tried (absent in records written before it was
+    /// recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<String>,
 }

@@ -5,16 +5,21 @@
 //! Error messages name the command-line flags (`--cpu-seconds`, `--set`, ...); the Python
 //! keyword arguments carry the same names with `_` for `-`.
 
+mod watch;
+
 use std::path::Path;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
 
 use brdf_model::{
     BrdfParams, DataSet, Evaluator, ExponentCoord, FilterReport, Kernel, Layout, LobeKind,
 };
-use sls::{AlgorithmConfig, StopReason, TrialResult};
+use sls::{AlgorithmConfig, Objective, Search, StopReason, TrialContext, TrialResult};
 
 use crate::spec::{DataFormat, FileSpec, ModelSpec};
+
+pub use watch::FitProgress;
 
 /// Errors of a fit or of loading its data.
 #[derive(Debug, thiserror::Error)]
@@ -23,9 +28,15 @@ pub enum FitError {
     /// and what was expected.
     #[error("{0}")]
     Input(String),
-    /// The run ended without evaluating any candidate (a budget too small to evaluate once).
-    #[error("the run evaluated no candidate (stop: {0:?})")]
-    NoCandidate(StopReason),
+    /// The run ended without a candidate of finite RMSE: the reason says why (the budget
+    /// ended before the first evaluation, or every candidate's RMSE overflowed).
+    #[error("the run evaluated no candidate (stop: {stop:?}): {reason}")]
+    NoCandidate {
+        /// Why the search stopped.
+        stop: StopReason,
+        /// Why it had no candidate, in words.
+        reason: String,
+    },
     /// The interrupt flag was raised before the fit ended.
     #[error("interrupted")]
     Interrupted,
@@ -59,6 +70,24 @@ pub struct FitRequest {
     pub kernel: Kernel,
     /// The descents' solver configuration.
     pub descent: sls::DescentModel,
+    /// Descend from the search's best over the full data until it rests (see [`Polish`]).
+    pub polish: bool,
+    /// Progress on standard error.
+    pub progress: FitProgress,
+}
+
+/// The full-data descents after the search: the search may stop anywhere (budget, target,
+/// a subsample's optimum), and a fit should end at a local minimum of the full data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Polish {
+    /// The full-data RMSE of the search's best.
+    pub rmse_before: f64,
+    /// The full-data RMSE after the descents (never above `rmse_before`).
+    pub rmse_after: f64,
+    /// Full-data descents made (up to 8, until one gains less than 1e-12 relative).
+    pub descents: usize,
+    /// Wall-clock seconds they took (on top of the search's budget).
+    pub wall_seconds: f64,
 }
 
 /// What one fit gives.
@@ -70,10 +99,14 @@ pub struct FitOutcome {
     pub kernel: Kernel,
     /// The trial: stop reason, clocks, evaluations, anytime trace, counters.
     pub result: TrialResult,
+    /// The fitted point in the optimiser's coordinates (the search's best, polished).
+    pub x: Vec<f64>,
     /// The fitted parameters (fixed ones included).
     pub params: BrdfParams,
     /// The RMSE of the fitted parameters on the whole data set, recomputed in full.
     pub rmse: f64,
+    /// The polish, when it was asked for.
+    pub polish: Option<Polish>,
 }
 
 /// The model `--lobes`, `--kind`, `--fix` and `--exponent` describe, checked against the
@@ -90,7 +123,13 @@ pub fn model_spec(
     }
     let mut spec = ModelSpec::simple(lobes, kind);
     spec.exponent = exponent;
-    spec.fixed.extend(fixed);
+    for (name, value) in fixed {
+        if let Some(first) = spec.fixed.insert(name.clone(), value) {
+            return Err(input(format!(
+                "--fix {name}: given twice ({first} and {value}); fix each parameter once"
+            )));
+        }
+    }
     Ok(spec)
 }
 
@@ -137,6 +176,47 @@ pub fn fit(
     let layout = request.model.layout().map_err(|e| input(e.to_string()))?;
     let objective = sls::BrdfObjective::with_kernel(data.clone(), layout.clone(), request.kernel)
         .map_err(|e| input(e.to_string()))?;
+    let result = match request.progress {
+        FitProgress::Quiet => search(&objective, request, interrupt.clone()),
+        mode => {
+            let watched = watch::Watched::new(&objective, mode, request.cpu_seconds);
+            let result = search(&watched, request, interrupt.clone());
+            watched.finish();
+            result
+        }
+    };
+    if result.stop == StopReason::Interrupted {
+        return Err(FitError::Interrupted);
+    }
+    if result.best_x.is_empty() || !result.best_rmse.is_finite() {
+        return Err(no_candidate(&objective, &result, request.cpu_seconds));
+    }
+    let (x, polish) = if request.polish {
+        let (x, p) = polish(&objective, &result, interrupt.as_ref())?;
+        (x, Some(p))
+    } else {
+        (result.best_x.clone(), None)
+    };
+    let kernel = objective.kernel();
+    let mut ev = Evaluator::with_kernel(&layout, kernel).map_err(|e| input(e.to_string()))?;
+    let rmse = ev.rmse(&x, &data);
+    Ok(FitOutcome {
+        params: layout.decode(&x),
+        x,
+        layout,
+        kernel,
+        result,
+        rmse,
+        polish,
+    })
+}
+
+/// The search itself: one trial of the request's algorithm on `objective`.
+fn search<O: Objective>(
+    objective: &O,
+    request: &FitRequest,
+    interrupt: Option<Arc<AtomicBool>>,
+) -> TrialResult {
     let budget = sls::Budget {
         cpu_seconds: Some(request.cpu_seconds),
         sample_evaluations: None,
@@ -145,30 +225,85 @@ pub fn fit(
         interrupt,
         descent: request.descent,
     };
-    let result = sls::run_trial_with(
-        &objective,
+    sls::run_trial_with(
+        objective,
         &request.algorithm,
         request.seed,
         budget,
         request.target,
         &settings,
-    );
-    if result.stop == StopReason::Interrupted {
+    )
+}
+
+/// Full-data descents from the search's best until one gains less than 1e-12 relative.
+fn polish(
+    objective: &sls::BrdfObjective,
+    result: &TrialResult,
+    interrupt: Option<&Arc<AtomicBool>>,
+) -> Result<(Vec<f64>, Polish), FitError> {
+    let started = Instant::now();
+    let budget = sls::Budget {
+        cpu_seconds: None,
+        sample_evaluations: Some(u64::MAX),
+    };
+    let mut cx = TrialContext::new(objective, 0, budget, f64::NEG_INFINITY);
+    if let Some(flag) = interrupt {
+        cx.set_interrupt(flag.clone());
+    }
+    let mut x = result.best_x.clone();
+    // The start is the first evaluation, so the polished best is never above it.
+    let rmse_before = cx.evaluate(&x).map_err(|_| FitError::Interrupted)?;
+    let (_, descents) = crate::best_known::polish_counting(&mut cx, &mut x);
+    if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
         return Err(FitError::Interrupted);
     }
-    if result.best_x.is_empty() {
-        return Err(FitError::NoCandidate(result.stop));
+    let polished = cx.finish(Ok(()));
+    let report = Polish {
+        rmse_before,
+        rmse_after: polished.best_rmse,
+        descents,
+        wall_seconds: started.elapsed().as_secs_f64(),
+    };
+    Ok((polished.best_x, report))
+}
+
+/// Why a search ended without a candidate of finite RMSE, in words.
+fn no_candidate(objective: &sls::BrdfObjective, result: &TrialResult, budget: f64) -> FitError {
+    let evaluated = result.ended_at.evaluations.total();
+    let reason = if evaluated == 0 {
+        let cost = one_evaluation_seconds(objective);
+        format!(
+            "the budget of {budget} CPU s ended before the first evaluation; one full-data \
+             evaluation of {} samples with {} free parameters took {cost:.2e} s here: raise \
+             --cpu-seconds (a descent costs many evaluations) or fit fewer lobes",
+            objective.sample_count(),
+            objective.dim()
+        )
+    } else {
+        format!(
+            "every candidate's RMSE overflowed or was not finite ({evaluated} \
+             sample-evaluations): squared residuals exceed the floating-point range when the \
+             data values are this large (scale the data, or drop such values with --max-value)"
+        )
+    };
+    FitError::NoCandidate {
+        stop: result.stop,
+        reason,
     }
-    let kernel = objective.kernel();
-    let mut ev = Evaluator::with_kernel(&layout, kernel).map_err(|e| input(e.to_string()))?;
-    let rmse = ev.rmse(&result.best_x, &data);
-    Ok(FitOutcome {
-        params: layout.decode(&result.best_x),
-        layout,
-        kernel,
-        result,
-        rmse,
-    })
+}
+
+/// Wall-clock seconds of one full-data RMSE at a seeded random point (measured now).
+fn one_evaluation_seconds(objective: &sls::BrdfObjective) -> f64 {
+    let budget = sls::Budget {
+        cpu_seconds: None,
+        sample_evaluations: None,
+    };
+    let mut cx = TrialContext::new(objective, 0, budget, f64::NEG_INFINITY);
+    let mut x = vec![0.0; objective.dim()];
+    cx.random_pick(&mut x);
+    let started = Instant::now();
+    let _ = cx.evaluate(&x);
+    started.elapsed().as_secs_f64()
 }
 
 /// Reads the data file `fs` names under the shared data policy, with the command line's
@@ -180,6 +315,13 @@ pub fn load_data(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
         return Err(input(format!(
             "{}: cannot tell the format from the extension; pass --format cornell|csv|merl",
             path.display()
+        )));
+    }
+    if let Some(v) = fs.max_value
+        && !v.is_finite()
+    {
+        return Err(input(format!(
+            "--max-value {v}: expected a finite number (values above it are dropped)"
         )));
     }
     let wavelength = fs.wavelength.unwrap_or(brdf_model::DEFAULT_WAVELENGTH_NM);
@@ -218,6 +360,8 @@ mod tests {
             target: 0.02,
             kernel: Kernel::Auto,
             descent: sls::DescentModel::Default,
+            polish: true,
+            progress: FitProgress::Quiet,
         }
     }
 
@@ -261,5 +405,84 @@ mod tests {
         let mut r = request(1);
         r.model.fixed.insert("lobe2.n".into(), 1.0);
         assert!(fit(data(), &r, None).unwrap_err().is_input_error());
+        let twice = [("kd".to_string(), 0.1), ("kd".to_string(), 0.2)];
+        let e = model_spec(1, LobeKind::Isotropic, ExponentCoord::Raw, twice).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--fix kd: given twice (0.1 and 0.2); fix each parameter once"
+        );
+        let fs = FileSpec {
+            path: "x.csv".into(),
+            format: None,
+            wavelength: None,
+            channel: None,
+            max_value: Some(f64::NAN),
+            drop_negative: false,
+            drop_below_horizon: true,
+        };
+        let e = load_data(&fs).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("--max-value NaN: expected a finite number"),
+            "{e}"
+        );
+    }
+
+    /// The search stops where its budget ends; the polish descends from there until a
+    /// full-data descent gains nothing, so one more descent finds nothing to gain.
+    #[test]
+    fn the_polished_fit_is_at_rest() {
+        let p = brdf_model::named_params("cross").unwrap();
+        let data = Arc::new(brdf_model::synthetic(&p, 2000, 0.05, 3));
+        let mut r = request(1);
+        r.model = model_spec(2, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap();
+        r.target = 0.0;
+        r.cpu_seconds = 0.3;
+        let fit = fit(data.clone(), &r, None).unwrap();
+        let polish = fit.polish.unwrap();
+        assert!(polish.rmse_after <= polish.rmse_before, "{polish:?}");
+        assert!((fit.rmse - polish.rmse_after).abs() <= 1e-12 * fit.rmse);
+        let objective = sls::BrdfObjective::new(data, fit.layout.clone());
+        let gain = one_more_descent_gain(&objective, &fit.x);
+        assert!(gain < 1e-10, "one more descent gained {gain:e} relative");
+    }
+
+    fn one_more_descent_gain(objective: &sls::BrdfObjective, x: &[f64]) -> f64 {
+        let budget = sls::Budget {
+            cpu_seconds: None,
+            sample_evaluations: Some(u64::MAX),
+        };
+        let mut cx = TrialContext::new(objective, 0, budget, f64::NEG_INFINITY);
+        let mut x = x.to_vec();
+        let before = cx.evaluate(&x).unwrap();
+        let limits = sls::DescentLimits::default();
+        cx.descend(&mut x, sls::Rows::Full, limits).unwrap();
+        (before - cx.evaluate(&x).unwrap()) / before
+    }
+
+    #[test]
+    fn no_candidate_says_why() {
+        let huge = DataSet::from_columns([
+            vec![0.0; 50],
+            vec![0.0; 50],
+            vec![1.0; 50],
+            vec![0.3; 50],
+            vec![0.0; 50],
+            vec![0.95; 50],
+            vec![1e300; 50],
+        ])
+        .unwrap();
+        let mut r = request(1);
+        r.cpu_seconds = 0.5;
+        let e = fit(Arc::new(huge), &r, None).unwrap_err().to_string();
+        assert!(e.contains("every candidate's RMSE overflowed"), "{e}");
+        r.cpu_seconds = 1e-9;
+        r.model = model_spec(64, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap();
+        let e = fit(data(), &r, None).unwrap_err().to_string();
+        assert!(e.contains("ended before the first evaluation"), "{e}");
+        assert!(
+            e.contains("500 samples with 321 free parameters took"),
+            "{e}"
+        );
     }
 }

@@ -126,7 +126,7 @@ pub fn write_report(
     let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
     let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
     let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
-    let table = with_best_known(spec, stats::table(&report));
+    let table = with_best_known(spec, &owned, stats::table(&report));
     let mut files = Vec::new();
     let stats_path = out.join("stats.json");
     let json = to_json(&stats_path, &report)?;
@@ -151,6 +151,8 @@ pub fn write_report(
         files.extend(draw_plots(spec, &groups, &out.join("plots"))?);
     }
     let planned = spec.trials_plan().len();
+    let mut warnings = crate::best_known::warnings(spec);
+    warnings.extend(crate::best_known::below_best_known(spec, &owned));
     let summary = serde_json::json!({
         "experiment": spec.name,
         "description": spec.description,
@@ -163,7 +165,7 @@ pub fn write_report(
         "configurations": spec.config_labels(),
         "instances": spec.instance_names(),
         "best_known": spec.best_known(),
-        "warnings": crate::best_known::warnings(spec),
+        "warnings": warnings,
         "files": files.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
     });
     let summary_path = out.join("summary.json");
@@ -178,7 +180,7 @@ pub fn write_report(
 
 /// The statistics table followed by each instance's best-known RMSE (with every target
 /// relative to it) and the warnings about targets close to it, when they are known.
-fn with_best_known(spec: &Spec, mut table: String) -> String {
+fn with_best_known(spec: &Spec, records: &[TrialRecord], mut table: String) -> String {
     if spec.instances.iter().all(|i| i.best_known.is_none()) {
         return table;
     }
@@ -186,7 +188,8 @@ fn with_best_known(spec: &Spec, mut table: String) -> String {
         table.push('\n');
     }
     table.push_str(&crate::best_known::summary(spec));
-    for w in crate::best_known::warnings(spec) {
+    let below = crate::best_known::below_best_known(spec, records);
+    for w in crate::best_known::warnings(spec).into_iter().chain(below) {
         table.push_str(&w);
         table.push('\n');
     }

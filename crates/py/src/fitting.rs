@@ -21,17 +21,20 @@ use crate::support::{enum_value, input_err, interruptible, run_err, settings, to
 /// algorithm (`phi=1.2`, as `--set phi=1.2`; missing ones take the paper's defaults). lobes,
 /// kind, exponent, fixed: the model (see `Model`); target: stop at this RMSE (0: use the whole
 /// budget); cpu_seconds: the CPU-time budget of the worker thread; seed: as `--seed`;
-/// descent: the descents' solver, "default", "gauss-newton" or "n2fb" (as `--descent`).
+/// descent: the descents' solver, "default", "gauss-newton" or "n2fb" (as `--descent`);
+/// polish: end with full-data descents from the search's best until it rests (False: as
+/// `--no-polish`).
 ///
 /// Returns a dict: params (physical, a dict), x (optimiser coordinates), names, rmse (of the
-/// fitted parameters, recomputed in full), stop, reached, cpu_seconds, wall_seconds,
+/// fitted parameters, recomputed in full), best_rmse (the search's best, before the polish),
+/// polish (dict rmse_before, rmse_after, descents, wall_seconds; None when off), stop, reached, cpu_seconds, wall_seconds,
 /// evaluations (sample-evaluations), evaluation_counts, reached_at, trace (dict of arrays
 /// cpu_seconds, wall_seconds, evaluations, rmse: one entry per improvement), counters,
 /// algorithm (every setting, defaults included), kernel, descent, seed.
 ///
 /// Releases the GIL while fitting; Ctrl-C stops the fit and raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (data, algorithm="aed", *, lobes=1, kind="anisotropic", exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", **config))]
+#[pyo3(signature = (data, algorithm="aed", *, lobes=1, kind="anisotropic", exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", polish=true, **config))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
@@ -46,6 +49,7 @@ pub fn fit(
     seed: u64,
     kernel: &str,
     descent: &str,
+    polish: bool,
     config: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
@@ -70,6 +74,8 @@ pub fn fit(
         target,
         kernel,
         descent,
+        polish,
+        progress: harness::fit::FitProgress::Quiet,
     };
     let outcome = interruptible(py, |flag| harness::fit::fit(data, &request, Some(flag)))?;
     match outcome {
@@ -131,7 +137,16 @@ fn fit_dict(py: Python<'_>, request: &FitRequest, fit: FitOutcome) -> PyResult<P
     d.set_item("kernel", fit.kernel.to_string())?;
     d.set_item("descent", request.descent.to_string())?;
     d.set_item("seed", request.seed)?;
-    d.set_item("x", PyArray1::from_vec(py, fit.result.best_x))?;
+    let polish = fit.polish.map(|p| {
+        BTreeMap::from([
+            ("rmse_before", p.rmse_before),
+            ("rmse_after", p.rmse_after),
+            ("descents", p.descents as f64),
+            ("wall_seconds", p.wall_seconds),
+        ])
+    });
+    d.set_item("polish", polish)?;
+    d.set_item("x", PyArray1::from_vec(py, fit.x))?;
     Ok(d.into_any().unbind())
 }
 

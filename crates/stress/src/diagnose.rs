@@ -4,12 +4,17 @@
 //! reports the singular values and condition number of the column-scaled Jacobian, standard
 //! errors and correlations from `s^2 (J^T J)^+`, the combinations of parameters the data do
 //! not determine, plain-language warnings, seeded bootstrap intervals (parallel with rayon) and
-//! the movement of the fit when the data are perturbed by 1e-12, 1e-8 and 1e-4 relative.
+//! the movement of the fit when the data are perturbed by 1e-12, 1e-8 and 1e-4 relative. It
+//! also checks that `x` is a local minimum (a Gauss-Newton step and a full-data refit from it),
+//! since everything else describes the point it is given.
+
+mod checks;
+mod markdown;
 
 use crate::svd::svd;
 use crate::{StressError, derive_seed, percentile};
 use bounded_lm::{Options, Problem, Report, SolveError, Solver};
-use brdf_model::{DataSet, Evaluator, Layout, LobeKind};
+use brdf_model::{DataSet, Evaluator, Layout};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
@@ -106,6 +111,14 @@ pub struct Diagnosis {
     pub bootstrap: Option<Bootstrap>,
     /// Sensitivity refits.
     pub sensitivity: Vec<Sensitivity>,
+    /// Stationarity of `x`: the relative reduction of the sum of squares a Gauss-Newton step
+    /// from `x` predicts (over the parameters not held at a bound; 0 at a stationary point).
+    #[serde(default)]
+    pub predicted_reduction: f64,
+    /// RMSE after a full-data refit from `x` on the original data (`None`: it could not
+    /// start); below [`Diagnosis::rmse`] when `x` is not a local minimum.
+    #[serde(default)]
+    pub refit_rmse: Option<f64>,
 }
 
 /// The BRDF fit as a bounded-lm problem (as sls drives it: residuals and Jacobian from the
@@ -282,7 +295,14 @@ pub fn diagnose(
             }
         })
         .collect();
-    let warnings = warnings(
+    let (lo, hi) = (layout.lower(), layout.upper());
+    let predicted_reduction = if ssr > 0.0 {
+        checks::gauss_newton_reduction(&jac, m, &r, x, lo, hi, options.null_tol) / ssr
+    } else {
+        0.0
+    };
+    let refit_rmse = refit_from(layout, data, x);
+    let mut warnings = checks::warnings(
         layout,
         data,
         x,
@@ -292,7 +312,18 @@ pub fn diagnose(
         condition_number,
         &norms,
     );
+    warnings.extend(checks::stationarity(rmse, refit_rmse, predicted_reduction));
     let bootstrap = (options.bootstrap > 0).then(|| bootstrap(layout, data, x, options));
+    if let Some(b) = &bootstrap {
+        warnings.extend(checks::bootstrap_width(
+            layout,
+            data,
+            x,
+            &names,
+            &standard_errors,
+            b,
+        ));
+    }
     let sensitivity = options
         .perturbations
         .iter()
@@ -323,97 +354,19 @@ pub fn diagnose(
         warnings,
         bootstrap,
         sensitivity,
+        predicted_reduction,
+        refit_rmse,
     })
 }
 
-#[allow(clippy::too_many_arguments)]
-fn warnings(
-    layout: &Layout,
-    data: &DataSet,
-    x: &[f64],
-    names: &[String],
-    undetermined: &[(f64, Vec<(String, f64)>)],
-    correlation: &[Vec<f64>],
-    condition_number: f64,
-    norms: &[f64],
-) -> Vec<String> {
-    let mut w = Vec::new();
-    // In-plane incidence: with u_y = 0 on every sample only Cx cos^2 p + Cy sin^2 p and
-    // (Cx - Cy) cos p sin p reach the data, so Cx, Cy and pan cannot all be determined.
-    let in_plane = data.u_y().iter().all(|v| v.abs() <= 1e-9);
-    let exit_in_plane = data.v_y().iter().all(|v| v.abs() <= 1e-9);
-    if in_plane {
-        for (k, kind) in layout.kinds().iter().enumerate() {
-            let free = |f: &str| layout.free_index(&format!("lobe{}.{f}", k + 1)).is_some();
-            if *kind == LobeKind::Anisotropic && (free("cx") || free("cy") || free("pan")) {
-                w.push(format!(
-                    "All incident directions lie in one plane (incident azimuth always 0{}): \
-                     the split between Cx and Cy and the pan angle of lobe {} cannot be \
-                     determined from these data. Fit the isotropic layout (--kind isotropic) \
-                     instead.",
-                    if exit_in_plane {
-                        ", and every exitant direction too"
-                    } else {
-                        ""
-                    },
-                    k + 1
-                ));
-            }
-        }
-    }
-    for (j, &n) in norms.iter().enumerate() {
-        if n == 0.0 {
-            w.push(format!(
-                "`{}` has no effect on any sample at this solution (its Jacobian column is \
-                 zero; for a lobe this means d <= 0 everywhere or n = 0): the data say nothing \
-                 about it.",
-                names[j]
-            ));
-        }
-    }
-    for (ratio, combo) in undetermined {
-        let list: Vec<String> = combo
-            .iter()
-            .map(|(n, v)| format!("{n} ({v:+.2})"))
-            .collect();
-        w.push(format!(
-            "The data do not determine the combination {} (singular value {ratio:.1e} of the \
-             largest): the parameters can move together along it without changing the fit, \
-             so their standard errors are reported as infinite.",
-            list.join(", ")
-        ));
-    }
-    if condition_number.is_finite() && condition_number > 1e6 {
-        w.push(format!(
-            "The scaled Jacobian is ill-conditioned (condition number {condition_number:.1e}): \
-             small changes in the data can move the parameters a lot."
-        ));
-    }
-    let p = names.len();
-    for a in 0..p {
-        for b in a + 1..p {
-            let c = correlation[a][b];
-            if c.is_finite() && c.abs() > 0.99 {
-                w.push(format!(
-                    "`{}` and `{}` are correlated at {c:+.3}: the data mostly determine a \
-                     combination of them.",
-                    names[a], names[b]
-                ));
-            }
-        }
-    }
-    let (lo, hi) = (layout.lower(), layout.upper());
-    for j in 0..p {
-        let tol = 1e-9 * (hi[j] - lo[j]).max(1.0);
-        if x[j] <= lo[j] + tol || x[j] >= hi[j] - tol {
-            w.push(format!(
-                "`{}` is at its bound: the optimum may lie outside the box, and the standard \
-                 error does not describe a one-sided uncertainty.",
-                names[j]
-            ));
-        }
-    }
-    w
+/// The RMSE after a full-data refit from `x` (`None` when it cannot start or ends non-finite).
+fn refit_from(layout: &Layout, data: &DataSet, x: &[f64]) -> Option<f64> {
+    let mut ev = Evaluator::new(layout);
+    let mut solver = Solver::new();
+    let mut x1 = x.to_vec();
+    refit(&mut ev, &mut solver, data, &mut x1).ok()?;
+    let rmse = ev.rmse(&x1, data);
+    rmse.is_finite().then_some(rmse)
 }
 
 fn bootstrap(layout: &Layout, data: &DataSet, x: &[f64], o: &DiagnoseOptions) -> Bootstrap {
@@ -498,88 +451,10 @@ fn sensitivity(
     }
 }
 
-impl Diagnosis {
-    /// The diagnosis as Markdown (tables of parameters, singular values, warnings,
-    /// bootstrap and sensitivity).
-    pub fn to_markdown(&self) -> String {
-        use std::fmt::Write;
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "{} samples, RMSE {:.6e}, condition number of the scaled Jacobian {:.3e}\n",
-            self.samples, self.rmse, self.condition_number
-        );
-        let _ = writeln!(
-            s,
-            "| parameter | internal x | std. error | physical | std. error | bootstrap 95% (internal) |\n|---|---|---|---|---|---|"
-        );
-        for j in 0..self.names.len() {
-            let ci = self
-                .bootstrap
-                .as_ref()
-                .map(|b| format!("[{:.5e}, {:.5e}]", b.lower[j], b.upper[j]))
-                .unwrap_or_else(|| "-".into());
-            let _ = writeln!(
-                s,
-                "| {} | {:.6e} | {:.3e} | {:.6e} | {:.3e} | {} |",
-                self.names[j],
-                self.x[j],
-                self.standard_errors[j],
-                self.physical[j],
-                self.physical_standard_errors[j],
-                ci
-            );
-        }
-        let sv: Vec<String> = self
-            .singular_values
-            .iter()
-            .map(|v| format!("{v:.3e}"))
-            .collect();
-        let _ = writeln!(
-            s,
-            "\nSingular values (unit-norm columns): {}\n",
-            sv.join(", ")
-        );
-        if let Some(b) = &self.bootstrap {
-            let _ = writeln!(
-                s,
-                "Bootstrap: {} resamples ({} failed), RMSE 95% [{:.5e}, {:.5e}]\n",
-                b.resamples, b.failed, b.rmse.0, b.rmse.1
-            );
-        }
-        if !self.sensitivity.is_empty() {
-            let _ = writeln!(
-                s,
-                "| data perturbation | max parameter shift (box widths) | amplification | RMSE change | code |\n|---|---|---|---|---|"
-            );
-            for t in &self.sensitivity {
-                let _ = writeln!(
-                    s,
-                    "| {:.0e} | {:.3e} | {:.3e} | {:+.3e} | {} |",
-                    t.relative_perturbation,
-                    t.max_shift,
-                    t.amplification,
-                    t.rmse_change,
-                    t.code.map_or("-".into(), |c| c.to_string())
-                );
-            }
-        }
-        if self.warnings.is_empty() {
-            let _ = writeln!(s, "\nNo warnings.");
-        } else {
-            let _ = writeln!(s, "\nWarnings:\n");
-            for w in &self.warnings {
-                let _ = writeln!(s, "- {w}");
-            }
-        }
-        s
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use brdf_model::named_params;
+    use brdf_model::{LobeKind, named_params};
 
     /// In-plane data (u_y = v_y = 0): the Cx/Cy split and pan are flagged, and a standard error
     /// is infinite; the isotropic layout on the same data has neither problem.
@@ -619,5 +494,59 @@ mod tests {
         let d = diagnose(&iso, &data, &xi, &o).unwrap();
         assert!(d.warnings.iter().all(|w| !w.contains("isotropic layout")));
         assert!(d.standard_errors.iter().all(|s| s.is_finite()));
+    }
+
+    /// The generating parameters of noisy data are not the least-squares optimum: diagnosing
+    /// them warns that the point is not a local minimum; diagnosing the refit does not.
+    #[test]
+    fn a_point_that_is_not_a_minimum_is_flagged() {
+        let p = named_params("tuning").unwrap();
+        let data = brdf_model::synthetic(&p, 400, 0.05, 5);
+        let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
+        let o = DiagnoseOptions {
+            bootstrap: 0,
+            perturbations: vec![],
+            ..DiagnoseOptions::default()
+        };
+        let truth = layout.encode(&p);
+        let d = diagnose(&layout, &data, &truth, &o).unwrap();
+        let flagged = |d: &Diagnosis| d.warnings.iter().any(|w| w.contains("not a local minimum"));
+        assert!(flagged(&d), "{:?}", d.warnings);
+        assert!(d.refit_rmse.unwrap() < d.rmse);
+        let mut x = truth.clone();
+        let (mut ev, mut solver) = (Evaluator::new(&layout), Solver::new());
+        for _ in 0..3 {
+            refit(&mut ev, &mut solver, &data, &mut x).unwrap();
+        }
+        let d = diagnose(&layout, &data, &x, &o).unwrap();
+        assert!(!flagged(&d), "{:?} {}", d.warnings, d.predicted_reduction);
+    }
+
+    /// In-plane data leave the pan angle undetermined: its bootstrap interval is marked.
+    #[test]
+    fn bootstrap_intervals_of_undetermined_parameters_are_marked() {
+        let p = named_params("tuning").unwrap();
+        let mut data = DataSet::new();
+        for i in 0..40 {
+            for k in 0..5 {
+                let ti = 0.1 + 1.3 * i as f64 / 40.0;
+                let to = -1.4 + 2.8 * k as f64 / 5.0;
+                let u = [ti.sin(), 0.0, ti.cos()];
+                let v = [to.sin(), 0.0, to.cos()];
+                data.push(u, v, p.value(u, v));
+            }
+        }
+        let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
+        let o = DiagnoseOptions {
+            bootstrap: 8,
+            perturbations: vec![],
+            ..DiagnoseOptions::default()
+        };
+        let d = diagnose(&layout, &data, &layout.encode(&p), &o).unwrap();
+        let md = d.to_markdown();
+        let pan = md.lines().find(|l| l.starts_with("| lobe1.pan ")).unwrap();
+        assert!(pan.ends_with("(undetermined) |"), "{pan}");
+        let kd = md.lines().find(|l| l.starts_with("| kd ")).unwrap();
+        assert!(!kd.contains("undetermined"), "{kd}");
     }
 }

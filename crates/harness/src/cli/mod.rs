@@ -141,6 +141,10 @@ pub struct CheckArgs {
     /// all CPUs).
     #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
+    /// Compute every instance's best-known RMSE, however large (by default only instances of
+    /// at most 20000 samples; `run` computes the others).
+    #[arg(long)]
+    pub best_known: bool,
 }
 
 /// `brdf-sls plot` and `brdf-sls stats`.

@@ -61,6 +61,14 @@ pub struct FitArgs {
     /// Bootstrap resamples of --diagnose (0 skips the bootstrap).
     #[arg(long, default_value_t = 200, requires = "diagnose")]
     pub bootstrap: usize,
+    /// Keep the search's best as it is, without the full-data descents that end the fit at a
+    /// local minimum.
+    #[arg(long)]
+    pub no_polish: bool,
+    /// Progress on standard error (the best RMSE each second): auto (a line on a terminal
+    /// unless CI=true, nothing otherwise), bars (that line), plain (lines), quiet.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub progress: harness::progress::ProgressMode,
 }
 
 /// Parameters: a named set, JSON, or flags.

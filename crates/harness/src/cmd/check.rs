@@ -1,10 +1,11 @@
 //! `brdf-sls check`: validate a spec and print its plan.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use harness::best_known::{CHECK_MAX_SAMPLES, resolve_within, warnings};
 use harness::run::default_threads;
 
-use super::shared::{default_out, load_spec, resolve_best_known};
-use super::{input_error, say};
+use super::shared::{default_out, load_spec};
+use super::{input_error, note, say};
 use crate::cli::CheckArgs;
 
 /// `brdf-sls check`.
@@ -23,8 +24,35 @@ pub fn check(a: CheckArgs) -> Result<()> {
             )));
         }
     }
-    resolve_best_known(&mut spec, None)?;
-    say!("{}", harness::best_known::summary(&spec).trim_end());
+    // The best-known RMSE costs tens of seconds on a million samples: check computes it only
+    // for instances up to the limit unless asked to, and says so.
+    let limit = (!a.best_known).then_some(CHECK_MAX_SAMPLES);
+    let resolved = resolve_within(&mut spec, &Default::default(), limit)
+        .context("finding the best-known RMSEs")?;
+    for n in &resolved.notes {
+        note!("note: {n}");
+    }
+    for w in warnings(&spec) {
+        note!("{w}");
+    }
+    say!(
+        "best-known RMSE computed for {} of {} instance(s){}",
+        resolved.known.len(),
+        spec.instances.len(),
+        if resolved.skipped > 0 {
+            format!(
+                "; {} skipped for size (over {CHECK_MAX_SAMPLES} samples; `run` computes them, \
+                 `check --best-known` forces them)",
+                resolved.skipped
+            )
+        } else {
+            String::new()
+        }
+    );
+    let summary = harness::best_known::summary(&spec);
+    if !summary.is_empty() {
+        say!("{}", summary.trim_end());
+    }
     say!("fingerprint {}", spec.fingerprint());
     say!(
         "default results directory: {}",

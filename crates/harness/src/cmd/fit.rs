@@ -4,7 +4,8 @@
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use harness::fit::{FitRequest, algorithm_config, check_budget, model_spec};
+use harness::fit::{FitProgress, FitRequest, algorithm_config, check_budget, model_spec};
+use harness::progress::ProgressMode;
 
 use super::shared::load_non_empty;
 use super::{input_error, say};
@@ -33,6 +34,8 @@ pub fn fit(a: FitArgs) -> Result<()> {
         target: a.target,
         kernel: a.kernel,
         descent: a.descent,
+        polish: !a.no_polish,
+        progress: fit_progress(a.progress),
     };
     let fit = harness::fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);
@@ -55,6 +58,17 @@ pub fn fit(a: FitArgs) -> Result<()> {
     if let Some(at) = r.reached_at {
         say!("target {} reached at {:.4} CPU s", a.target, at.cpu_seconds);
     }
+    match &fit.polish {
+        Some(p) => say!(
+            "polish: the search's best RMSE {:.17} became {:.17} after {} full-data \
+             descent(s) ({:.4} wall s)",
+            p.rmse_before,
+            p.rmse_after,
+            p.descents,
+            p.wall_seconds
+        ),
+        None => say!("polish: off (--no-polish): the search's best, not necessarily at rest"),
+    }
     say!("fitted parameters:");
     for name in layout.all_names() {
         let v = fit.params.get(name).unwrap_or(f64::NAN);
@@ -73,9 +87,23 @@ pub fn fit(a: FitArgs) -> Result<()> {
             seed: a.seed,
             ..brdf_stress::DiagnoseOptions::default()
         };
-        let d = brdf_stress::diagnose(layout, &data, &r.best_x, &options)
-            .context("diagnosing the fit")?;
+        let d =
+            brdf_stress::diagnose(layout, &data, &fit.x, &options).context("diagnosing the fit")?;
         say!("\n{}", d.to_markdown().trim_end());
     }
     Ok(())
+}
+
+/// `--progress` for a fit: on a terminal one line updated in place; `auto` shows nothing
+/// elsewhere (a fit's output is its result, not a log).
+fn fit_progress(mode: ProgressMode) -> FitProgress {
+    match mode {
+        ProgressMode::Auto => match mode.resolve() {
+            ProgressMode::Bars => FitProgress::Line,
+            _ => FitProgress::Quiet,
+        },
+        ProgressMode::Bars => FitProgress::Line,
+        ProgressMode::Plain => FitProgress::Lines,
+        ProgressMode::Quiet => FitProgress::Quiet,
+    }
 }

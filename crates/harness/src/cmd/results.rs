@@ -59,7 +59,11 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     for n in resolved.notes {
         note!("note: {n}");
     }
-    for w in harness::best_known::warnings(&spec) {
+    let below = harness::best_known::below_best_known(&spec, &contents.records);
+    for w in harness::best_known::warnings(&spec)
+        .into_iter()
+        .chain(below)
+    {
         note!("{w}");
     }
     if let Some(t) = &contents.torn {

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
 use harness::spec::Spec;
 
@@ -13,19 +13,6 @@ use crate::cli::DataArgs;
 /// Reads and validates a spec file.
 pub fn load_spec(path: &Path) -> Result<Spec> {
     Ok(Spec::from_file(path)?)
-}
-
-/// Resolves every instance's best-known RMSE and the relative targets: the values recorded in
-/// `dir`'s results when they were written by this spec, else computed (seeded, see
-/// `harness::best_known`). Prints a warning for each absolute target within 1% of its
-/// instance's best-known RMSE.
-pub fn resolve_best_known(spec: &mut Spec, dir: Option<&Path>) -> Result<()> {
-    let warnings =
-        harness::best_known::resolve_for_run(spec, dir).context("finding the best-known RMSEs")?;
-    for w in warnings {
-        note!("{w}");
-    }
-    Ok(())
 }
 
 /// `runs/<spec file stem>/`, or `runs/default/` for the built-in experiment.
