@@ -1,4 +1,4 @@
-//! Small dense linear algebra, hand-written for p up to ~40 (see the crate docs for why).
+//! Small dense linear algebra, hand-written for p up to ~40 (why: docs/solver.md, "Linear algebra").
 //!
 //! Matrices are column-major `n x n` slices; only what the solver needs.
 
