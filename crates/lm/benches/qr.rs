@@ -1,5 +1,5 @@
-//! The QR of the scaled Jacobian at the sizes the searches use, three ways in one run (issue
-//! 14): the solver's in-place Householder QR (with the scaled copy of `J` and of `r` it needs),
+//! The QR of the scaled Jacobian at the sizes the searches use, three ways in one run: the
+//! solver's in-place Householder QR (with the scaled copy of `J` and of `r` it needs),
 //! the blocked [`bounded_lm::qr::tall_qr`], and faer's `qr_in_place` with preallocated scratch
 //! (plus applying `Q^T` to `r`). 10000 x 7 is RPLS's full-data Jacobian on the tuning instance
 //! (one lobe and diffuse), 10000 x 13 two lobes, 25 and 400 rows the subsample descents.

@@ -34,7 +34,7 @@ use brdf_simd::Kernel;
 /// 2026-12-02, AMD Zen 5), and RPLS's mean CPU per trial on the tuning instance fell 9%. But
 /// the block size sets the order of the fold, so it changes `R` in the last bits, and with it
 /// three degenerate fits and the data-perturbation rows of the stress suite's solver section
-/// (same codes, other iteration counts and 1e-12-level RMSEs), which issue 18 asks to keep.
+/// (same codes, other iteration counts and 1e-12-level RMSEs), which the committed figures pin.
 pub const TALL_QR_BLOCK: usize = 128;
 
 /// Leading dimension of the block, padded so that no two columns are a multiple of 4 KiB apart

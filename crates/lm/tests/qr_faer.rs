@@ -1,6 +1,6 @@
 //! Differential test of the hand-written QR factorisations (`householder_qr`, the in-place one
 //! of small problems, and `tall_qr`, the blocked one of tall Jacobians) against faer's
-//! `qr_in_place` (issue 14): `R` up to row signs, least-squares solutions, and the singularity
+//! `qr_in_place`: `R` up to row signs, least-squares solutions, and the singularity
 //! test the solver applies to `R`'s diagonal, on random, ill-conditioned and rank-deficient
 //! tall-thin matrices at the sizes the searches use.
 

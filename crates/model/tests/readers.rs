@@ -178,7 +178,7 @@ fn merl_small_file_lookup_and_grid() {
     assert_eq!(at, expect);
 }
 
-/// Issue 11: declared counts beyond the limits, endless or binary input, and huge lines give
+/// Declared counts beyond the limits, endless or binary input, and huge lines give
 /// quick errors naming the file, the line and the limit (no allocation abort, no hang).
 #[test]
 fn limits_give_quick_clear_errors() {

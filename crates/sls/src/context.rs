@@ -21,9 +21,9 @@ use std::time::Instant;
 /// much wall time has passed (times [`CLOCK_SLACK`], for the two clocks' granularity), or at
 /// least every [`CLOCK_MAX_INTERVAL`] seconds. So the CPU cutoff is noticed at the first call
 /// after it, whatever the model size or the work between calls, while the CPU clock is read a
-/// handful of times per trial plus once per call only in the last stretch before the cutoff
-/// (an earlier version read it every 4096 rows or 64 calls, which let 64 slow solver steps of a
-/// 16-lobe model pass unchecked: 3 s over a 0.05 s cutoff).
+/// handful of times per trial plus once per call only in the last stretch before the cutoff.
+/// Counting rows or calls instead would let a few slow solver steps of a many-lobe model pass
+/// unchecked (64 steps of a 16-lobe model are 3 s over a 0.05 s cutoff).
 const CLOCK_SLACK: f64 = 0.95;
 /// The longest wall-time interval between two reads of the CPU clock, in seconds.
 const CLOCK_MAX_INTERVAL: f64 = 0.05;

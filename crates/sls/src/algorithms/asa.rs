@@ -63,7 +63,7 @@
 //! - Not implemented (off by default in ASA): quenching, `Sequential_Parameters`, integer
 //!   parameters, `ASA_SAMPLE`, `ASA_QUEUE`, multiple-minima reports, user-defined functions.
 //!
-//! # Checked against Ingber's ASA (issue 17)
+//! # Checked against Ingber's ASA
 //!
 //! Item by item against the references above, and against the text of asa.c itself (its
 //! ASA-distribution generator, `reanneal` for parameters and for the cost with
