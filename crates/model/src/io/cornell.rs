@@ -1,0 +1,178 @@
+//! The Cornell text reader (`*.brdf`; format in the [`io`](crate::io) module docs).
+
+use super::limits::{MAX_SAMPLES, MAX_WAVELENGTHS, check_text_len, sample_limit};
+use super::lines::{LineSource, short};
+use super::{DataError, dir_from_angles, open};
+use crate::data::{DataSet, FilterReport, Filters};
+use std::io::BufRead;
+use std::path::Path;
+
+/// Reads a Cornell `.brdf` file at wavelength `wavelength_nm` (must match one listed in the
+/// file within 1e-6 nm), applying `filters`. The file is streamed (see the module docs for
+/// the limits).
+pub fn read_cornell(
+    path: impl AsRef<Path>,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    let path = path.as_ref();
+    let file = std::io::BufReader::new(open(path)?);
+    cornell_from(LineSource::new(file, path), path, wavelength_nm, filters)
+}
+
+/// Parses Cornell text already in memory; `path` is only used in errors.
+pub fn parse_cornell(
+    text: &str,
+    path: &Path,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    check_text_len(text, path)?;
+    cornell_from(
+        LineSource::new(text.as_bytes(), path),
+        path,
+        wavelength_nm,
+        filters,
+    )
+}
+
+fn cornell_from<R: BufRead>(
+    mut lines: LineSource<'_, R>,
+    path: &Path,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    let perr = |line: usize, expected: String, found: String| DataError::Parse {
+        path: path.to_path_buf(),
+        line,
+        expected,
+        found,
+    };
+    let (ln, first) = lines
+        .next_line()?
+        .ok_or_else(|| perr(0, "the number of wavelengths".into(), "end of file".into()))?;
+    let mut toks = first.split_whitespace();
+    let nwl: usize = match (toks.next(), toks.next()) {
+        (Some(tok), None) => tok.parse().ok().filter(|&n: &usize| n > 0),
+        _ => None,
+    }
+    .ok_or_else(|| {
+        perr(
+            ln,
+            "the number of wavelengths (a positive integer alone on its line)".into(),
+            short(first),
+        )
+    })?;
+    if nwl > MAX_WAVELENGTHS {
+        return Err(DataError::Limit {
+            path: path.to_path_buf(),
+            line: ln,
+            message: format!(
+                "expected at most {MAX_WAVELENGTHS} wavelengths (MAX_WAVELENGTHS), the file declares {nwl}"
+            ),
+        });
+    }
+    let mut wls: Vec<f64> = Vec::with_capacity(nwl);
+    while wls.len() < nwl {
+        let (ln, l) = lines.next_line()?.ok_or_else(|| {
+            perr(
+                0,
+                format!("{nwl} wavelengths"),
+                format!("end of file after {}", wls.len()),
+            )
+        })?;
+        for tok in l.split_whitespace() {
+            if wls.len() == nwl {
+                return Err(perr(
+                    ln,
+                    format!("{nwl} wavelengths"),
+                    format!("more numbers (`{}` is extra)", short(tok)),
+                ));
+            }
+            let w: f64 = tok
+                .parse()
+                .ok()
+                .filter(|w: &f64| w.is_finite())
+                .ok_or_else(|| perr(ln, "a finite wavelength in nm".into(), short(tok)))?;
+            wls.push(w);
+        }
+    }
+    let col = wls
+        .iter()
+        .position(|w| (w - wavelength_nm).abs() < 1e-6)
+        .ok_or_else(|| DataError::NoWavelength {
+            path: path.to_path_buf(),
+            wavelength_nm,
+            available: wls.clone(),
+        })?;
+    let mut data = DataSet::new();
+    let mut rep = FilterReport::default();
+    let width = 4 + nwl;
+    let mut row = [0.0f64; 5];
+    let mut rows = 0usize;
+    while let Some((ln, l)) = lines.next_line()? {
+        rows += 1;
+        if rows > MAX_SAMPLES {
+            return Err(sample_limit(path, ln));
+        }
+        let mut count = 0usize;
+        for tok in l.split_whitespace() {
+            let v: f64 = tok.parse().map_err(|_| {
+                perr(
+                    ln,
+                    format!("a number (sample row: 4 angles in radians and {nwl} values)"),
+                    short(tok),
+                )
+            })?;
+            if count < 4 {
+                row[count] = v;
+            } else if count == 4 + col {
+                row[4] = v;
+            }
+            count += 1;
+        }
+        if count != width {
+            return Err(perr(
+                ln,
+                format!("{width} numbers (4 angles in radians and {nwl} values)"),
+                format!("{count} numbers"),
+            ));
+        }
+        let u = dir_from_angles(row[0], row[1]);
+        let v = dir_from_angles(row[2], row[3]);
+        let y = row[4];
+        if filters.admit(u, v, y, &mut rep) {
+            data.push(u, v, y);
+        }
+    }
+    Ok((data, rep))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cornell_errors() {
+        let path = Path::new("x.brdf");
+        let f = Filters::default();
+        let e = parse_cornell("# only comments\n", path, 550.0, &f).unwrap_err();
+        assert!(matches!(e, DataError::Parse { line: 0, .. }), "{e}");
+        let e = parse_cornell("two\n", path, 550.0, &f).unwrap_err();
+        assert!(matches!(e, DataError::Parse { line: 1, .. }), "{e}");
+        let e = parse_cornell("2\n500 550\n0 0 0 0 1\n", path, 550.0, &f).unwrap_err();
+        assert!(
+            e.to_string().contains("x.brdf:3: expected 6 numbers"),
+            "{e}"
+        );
+        let e = parse_cornell("2\n500 550\n0 0 0 0 1 q\n", path, 550.0, &f).unwrap_err();
+        assert!(matches!(e, DataError::Parse { line: 3, .. }), "{e}");
+        let e = parse_cornell("2\n500 600\n", path, 550.0, &f).unwrap_err();
+        assert!(matches!(e, DataError::NoWavelength { .. }), "{e}");
+        let e = parse_cornell("2\n500\n", path, 550.0, &f).unwrap_err();
+        assert!(e.to_string().contains("end of file after 1"), "{e}");
+        let (d, rep) = parse_cornell("2\n500\n550\n0.1 0 0.1 3.14 1 2\n", path, 550.0, &f).unwrap();
+        assert_eq!((d.len(), rep.read), (1, 1));
+        assert_eq!(d.value(0), 2.0);
+    }
+}
