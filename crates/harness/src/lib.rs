@@ -33,7 +33,9 @@
 //! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
 //! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
 //!   comparisons.
-//! - [`html`]: self-contained HTML pages: the report of results folders and a comparison.
+//! - [`html`]: self-contained HTML pages: the report of results folders, a comparison, and
+//!   the stress and bench pages.
+//! - [`stress_charts`]: the charts of a stress report (files and page alike).
 //! - [`compare`]: before and after: matched results of two folders judged faster, slower, not
 //!   significantly different or not comparable (and why).
 
@@ -75,6 +77,7 @@ pub mod shard;
 pub mod spec;
 pub mod stats;
 pub mod store;
+pub mod stress_charts;
 pub mod trial_key;
 pub mod tune;
 

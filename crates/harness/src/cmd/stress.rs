@@ -1,10 +1,11 @@
-//! `brdf-sls stress`: the numerical-stability report (brdf_stress) with its plots.
+//! `brdf-sls stress`: the numerical-stability report (brdf_stress) with its plots, written as
+//! stress.md, stress.json and the page stress.html.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use brdf_graphics::ImageFormat;
-use brdf_graphics::chart::{self, Chart, LegendAt, Series, Style};
+use brdf_graphics::chart::{self, Chart};
 use brdf_stress::{NamedData, StressOptions, StressReport};
 use harness::spec::{DataFormat, FileSpec};
 
@@ -42,11 +43,17 @@ pub fn stress(a: StressArgs) -> Result<()> {
     report
         .write_to(&out, harness::store::write_atomic)
         .with_context(|| format!("writing the report to {}", out.display()))?;
-    let plots = draw_plots(&report, &out.join("plots"))?;
+    let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
+    let machine = harness::machine::MachineInfo::current(report.threads);
+    let page = harness::html::stress_page(&report, &charts, &machine, harness::machine::unix_now())
+        .context("building the stress page")?;
+    let html = out.join("stress.html");
+    harness::store::write_atomic(&html, page.as_bytes())
+        .with_context(|| format!("writing {}", html.display()))?;
     say!("{}", summary(&report));
     say!(
         "wrote {} and {} plots to {}",
-        "stress.md, stress.json",
+        "stress.md, stress.json, stress.html",
         plots.len(),
         out.display()
     );
@@ -109,80 +116,15 @@ fn summary(report: &StressReport) -> String {
     s
 }
 
-/// The error-in-ulps histogram of every kernel: share of values per ulps bin (log axes).
-fn draw_plots(report: &StressReport, dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut c = Chart::new(
-        "Value error of each kernel against the double-double reference",
-        "error in ulps (upper edge of the bin)",
-        "share of values",
-    );
-    c.x_log = true;
-    c.y_log = true;
-    c.legend = LegendAt::UpperRight;
-    for (i, k) in report.kernels.kernels.iter().enumerate() {
-        let total: u64 = k.ulps_histogram.iter().map(|&(_, n)| n).sum();
-        let points: Vec<(f64, f64)> = k
-            .ulps_histogram
-            .iter()
-            .filter(|&&(edge, n)| edge.is_finite() && edge > 0.0 && n > 0)
-            .map(|&(edge, n)| (edge, n as f64 / total.max(1) as f64))
-            .collect();
-        c.series.push(Series {
-            label: Some(format!("{} (max {:.3e} ulps)", k.kernel, k.max_ulps)),
-            points,
-            style: chart::line_style(i),
-            color: chart::color(i),
-            band: Vec::new(),
-        });
-    }
+/// Draws every chart of the report to `dir` as PNG and SVG; returns the files and the charts
+/// (the page inlines the same charts).
+fn draw_plots(report: &StressReport, dir: &Path) -> Result<(Vec<PathBuf>, Vec<Chart>)> {
     let formats = [ImageFormat::Png, ImageFormat::Svg];
-    let mut files = chart::draw(&c, &dir.join("kernel-ulps-histogram"), &formats)?;
-    files.extend(chart::draw(
-        &suite_map(report),
-        &dir.join("solver-suite-map"),
-        &formats,
-    )?);
-    Ok(files)
-}
-
-/// The solver suite as a pass/fail map: one row per group (NIST, MGH, BRDF), one point per
-/// case, coloured by right, wrong with a failure code, or a suite failure.
-fn suite_map(report: &StressReport) -> Chart {
-    const GROUPS: [&str; 3] = ["nist", "mgh", "brdf"];
-    let mut c = Chart::new(
-        "Solver suite: every case (rows: 1 NIST, 2 MGH, 3 BRDF hostile)",
-        "case (in suite order within its group)",
-        "group",
-    );
-    c.legend = LegendAt::UpperRight;
-    c.y_range = Some((0.5, 3.8));
-    let kinds: [(&str, Style); 3] = [
-        ("right", Style::Points),
-        ("wrong, failure code", Style::HollowPoints),
-        ("suite failure", Style::Points),
-    ];
-    let mut points: [Vec<(f64, f64)>; 3] = Default::default();
-    for (g, group) in GROUPS.iter().enumerate() {
-        let cases = report.suite.cases.iter().filter(|k| k.group == *group);
-        for (i, case) in cases.enumerate() {
-            let kind = match (case.right, case.failure.is_some()) {
-                (true, _) => 0,
-                (false, false) => 1,
-                (false, true) => 2,
-            };
-            points[kind].push((i as f64, (g + 1) as f64));
-        }
+    let mut files = Vec::new();
+    let mut charts = Vec::new();
+    for (stem, c) in harness::stress_charts::charts(report) {
+        files.extend(chart::draw(&c, &dir.join(stem), &formats)?);
+        charts.push(c);
     }
-    let colors = [chart::color(2), chart::color(1), chart::color(3)];
-    for (((label, style), pts), color) in kinds.into_iter().zip(points).zip(colors) {
-        let n = pts.len();
-        c.series.push(Series {
-            label: Some(format!("{label} ({n})")),
-            points: pts,
-            style,
-            color,
-            band: Vec::new(),
-        });
-    }
-    c
+    Ok((files, charts))
 }

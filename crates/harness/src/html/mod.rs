@@ -1,5 +1,6 @@
-//! Self-contained HTML pages: a results report ([`report_page`]) and a before/after comparison
-//! ([`compare_page`]). One file each, with inline CSS and inline SVG charts (drawn by
+//! Self-contained HTML pages: a results report ([`report_page`]), a before/after comparison
+//! ([`compare_page`]) and a stress report ([`stress_page`]; `brdf-sls bench` builds its page
+//! from the blocks here). One file each, with inline CSS and inline SVG charts (drawn by
 //! `brdf_graphics` with its embedded font); no script, no network, no external font.
 //!
 //! Every string taken from results (names, labels, descriptions, spec text, machine names) is
@@ -8,13 +9,17 @@
 
 mod compare;
 mod figures;
+mod markdown;
 mod provenance;
 mod report;
+mod stress;
 mod tables;
 pub mod wellformed;
 
 pub use compare::compare_page;
+pub use provenance::machine_text;
 pub use report::report_page;
+pub use stress::stress_page;
 
 /// Errors building a page.
 #[derive(Debug, thiserror::Error)]
