@@ -45,6 +45,7 @@ pub mod best_known;
 pub mod export;
 pub mod figures;
 pub mod fit;
+pub mod input_file;
 pub mod instance;
 pub mod machine;
 pub mod merge;
@@ -52,10 +53,13 @@ pub mod progress;
 pub mod report;
 pub mod run;
 pub mod seed;
+pub mod seed_check;
 pub mod shard;
+pub mod signals;
 pub mod spec;
 pub mod stats;
 pub mod store;
+pub mod threads;
 pub mod tune;
 
 #[cfg(test)]

@@ -149,6 +149,17 @@ pub enum StoreError {
         /// The packed file.
         path: PathBuf,
     },
+    /// A folder holds both `trials.jsonl` and `trials.jsonl.gz`: which one holds the results is
+    /// unknown, so neither is read.
+    #[error(
+        "{dir} holds both {TRIALS_FILE} and {PACKED_TRIALS_FILE}; refusing to guess which holds \
+         the results: remove (or move away) {PACKED_TRIALS_FILE} to use the plain file, or \
+         {TRIALS_FILE} to use the packed one"
+    )]
+    BothPresent {
+        /// The results folder.
+        dir: PathBuf,
+    },
     /// The file has a newer format version.
     #[error(
         "{path}: results format version {found} is not supported (this build reads {FORMAT_VERSION})"
@@ -442,15 +453,27 @@ fn is_packed(path: &Path) -> bool {
     path.extension().is_some_and(|e| e == "gz")
 }
 
-/// Reads a file, unpacking it when its name ends in `.gz`.
-fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
-    let file = File::open(path).map_err(io_err(path))?;
-    if !is_packed(path) {
-        let mut bytes = Vec::new();
-        let mut reader = std::io::BufReader::new(file);
-        reader.read_to_end(&mut bytes).map_err(io_err(path))?;
-        return Ok(bytes);
+/// The results file of a folder as [`results_file`], refusing a folder that holds both the
+/// plain and the packed file ([`StoreError::BothPresent`]).
+pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
+    if dir.join(TRIALS_FILE).exists() && dir.join(PACKED_TRIALS_FILE).exists() {
+        return Err(StoreError::BothPresent {
+            dir: dir.to_path_buf(),
+        });
     }
+    Ok(results_file(dir))
+}
+
+const RESULTS: &str = "a results file (trials.jsonl)";
+
+/// Reads a file, unpacking it when its name ends in `.gz`. Only regular files are read, each
+/// up to [`MAX_RESULTS_BYTES`] (see [`crate::input_file`]).
+fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
+    use crate::input_file::{open_regular, read_regular};
+    if !is_packed(path) {
+        return read_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path));
+    }
+    let file = open_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path))?;
     let mut bytes = Vec::new();
     flate2::read::GzDecoder::new(std::io::BufReader::new(file))
         .take(MAX_RESULTS_BYTES + 1)
@@ -468,7 +491,7 @@ fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
 /// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
 pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
     let file = if path.is_dir() {
-        results_file(path)
+        results_file_checked(path)?
     } else {
         path.to_path_buf()
     };
@@ -583,6 +606,12 @@ impl ResultStore {
         let lock = DirLock::acquire(dir)?;
         let path = dir.join(TRIALS_FILE);
         let packed = dir.join(PACKED_TRIALS_FILE);
+        for p in [&path, &packed] {
+            crate::input_file::check_regular_if_present(p, RESULTS).map_err(io_err(p))?;
+        }
+        if !fresh {
+            results_file_checked(dir)?;
+        }
         let mut notes = Vec::new();
         let mut records = Vec::new();
         if fresh {

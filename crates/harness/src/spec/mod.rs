@@ -82,6 +82,7 @@ use serde::{Deserialize, Serialize};
 use sls::{AlgorithmConfig, Budget};
 
 mod describe;
+mod labels;
 pub mod limits;
 mod plan;
 mod raw;
@@ -499,7 +500,7 @@ pub struct PlannedTrial {
 impl Spec {
     /// Reads and validates a spec file.
     pub fn from_file(path: &Path) -> Result<Spec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
+        let text = crate::input_file::read_spec_text(path).map_err(|source| SpecError::Io {
             path: path.display().to_string(),
             source,
         })?;
