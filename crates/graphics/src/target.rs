@@ -7,6 +7,17 @@ use std::path::{Path, PathBuf};
 /// Symbolic links followed before giving up (the kernel's own limit, `MAXSYMLINKS`, is 40).
 const MAX_LINK_HOPS: usize = 40;
 
+/// Why a write target was refused (carried inside the [`std::io::Error`] that
+/// [`write_target`] returns, so callers can tell bad output paths from failing disks).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct RefusedTarget(String);
+
+/// True when `e` is an I/O error carrying a [`RefusedTarget`].
+pub fn is_refused_target(e: &Error) -> bool {
+    e.get_ref().is_some_and(|inner| inner.is::<RefusedTarget>())
+}
+
 /// What a non-regular file is, for error messages.
 fn kind_of(meta: &std::fs::Metadata) -> &'static str {
     #[cfg(unix)]
@@ -61,18 +72,18 @@ pub fn write_target(path: &Path) -> std::io::Result<PathBuf> {
         } else {
             format!(" (the link's target {})", current.display())
         };
-        return Err(Error::new(
-            ErrorKind::InvalidInput,
-            format!(
-                "is {}{via}, not a regular file; refusing to replace it (write to a file)",
-                kind_of(&meta)
-            ),
-        ));
+        return Err(refused(format!(
+            "is {}{via}, not a regular file; refusing to replace it (write to a file)",
+            kind_of(&meta)
+        )));
     }
-    Err(Error::new(
-        ErrorKind::InvalidInput,
-        format!("more than {MAX_LINK_HOPS} symbolic links to follow"),
-    ))
+    Err(refused(format!(
+        "more than {MAX_LINK_HOPS} symbolic links to follow"
+    )))
+}
+
+fn refused(message: String) -> Error {
+    Error::new(ErrorKind::InvalidInput, RefusedTarget(message))
 }
 
 /// True when process `pid` is alive on a system with `/proc`; without `/proc` every process
@@ -141,7 +152,7 @@ mod tests {
     fn a_directory_is_refused_by_kind() {
         let dir = tempfile::tempdir().unwrap();
         let err = write_target(dir.path()).unwrap_err();
-        assert_eq!(err.kind(), ErrorKind::InvalidInput);
+        assert!(is_refused_target(&err));
         assert!(err.to_string().starts_with("is a directory"), "{err}");
     }
 

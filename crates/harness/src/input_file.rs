@@ -40,10 +40,13 @@ pub enum Refused {
 }
 
 /// True when `e` is (or wraps) an I/O error carrying a [`Refused`]: bad input, not a failure.
+/// An output path that [`brdf_graphics::files::write_atomic`] refused (a device, FIFO, socket
+/// or directory) counts too.
 pub fn is_refused(e: &(dyn std::error::Error + 'static)) -> bool {
-    e.downcast_ref::<Error>()
-        .and_then(|io| io.get_ref())
-        .is_some_and(|inner| inner.is::<Refused>())
+    e.downcast_ref::<Error>().is_some_and(|io| {
+        brdf_graphics::target::is_refused_target(io)
+            || io.get_ref().is_some_and(|inner| inner.is::<Refused>())
+    })
 }
 
 fn refused(r: Refused) -> Error {
