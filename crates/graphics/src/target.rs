@@ -162,7 +162,9 @@ mod tests {
         let target = dir.path().join("stats.csv");
         // PID 0 never names a user process; our own PID is alive.
         let dead = dir.path().join(".stats.csv.tmp-0");
-        let mine = dir.path().join(format!(".stats.csv.tmp-{}", std::process::id()));
+        let mine = dir
+            .path()
+            .join(format!(".stats.csv.tmp-{}", std::process::id()));
         let other = dir.path().join(".other.csv.tmp-0");
         for p in [&dead, &mine, &other] {
             std::fs::write(p, "x").unwrap();

@@ -32,7 +32,7 @@ pub enum Refused {
         expected: &'static str,
     },
     /// An output folder that exists and is not a folder.
-    #[error("is {kind}, not a directory; expected a results folder (give --out a folder)")]
+    #[error("is {kind}, not a directory; expected an output folder")]
     NotDirectory {
         /// What it is.
         kind: &'static str,

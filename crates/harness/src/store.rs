@@ -149,12 +149,13 @@ pub enum StoreError {
         /// The packed file.
         path: PathBuf,
     },
-    /// A folder holds both `trials.jsonl` and `trials.jsonl.gz`: which one holds the results is
-    /// unknown, so neither is read.
+    /// A folder holds both `trials.jsonl` and `trials.jsonl.gz`, and the plain file was not
+    /// unpacked from the packed one: which one holds the results is unknown, so neither is read.
     #[error(
-        "{dir} holds both {TRIALS_FILE} and {PACKED_TRIALS_FILE}; refusing to guess which holds \
-         the results: remove (or move away) {PACKED_TRIALS_FILE} to use the plain file, or \
-         {TRIALS_FILE} to use the packed one"
+        "{dir} holds both {TRIALS_FILE} and {PACKED_TRIALS_FILE}, and the plain file does not \
+         start with the packed one's results; refusing to guess which holds the results: \
+         remove (or move away) {PACKED_TRIALS_FILE} to use the plain file, or {TRIALS_FILE} \
+         to use the packed one"
     )]
     BothPresent {
         /// The results folder.
@@ -453,15 +454,28 @@ fn is_packed(path: &Path) -> bool {
     path.extension().is_some_and(|e| e == "gz")
 }
 
-/// The results file of a folder as [`results_file`], refusing a folder that holds both the
-/// plain and the packed file ([`StoreError::BothPresent`]).
+/// The results file of a folder as [`results_file`]. When both the plain and the packed file
+/// exist, the plain one is used only if it starts with the packed one's content (a `run`
+/// unpacked it and appended); otherwise the packed file holds results the plain one lacks, and
+/// the folder is refused ([`StoreError::BothPresent`]) rather than one of them ignored.
 pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
-    if dir.join(TRIALS_FILE).exists() && dir.join(PACKED_TRIALS_FILE).exists() {
-        return Err(StoreError::BothPresent {
-            dir: dir.to_path_buf(),
-        });
+    let plain = dir.join(TRIALS_FILE);
+    let packed = dir.join(PACKED_TRIALS_FILE);
+    if !(plain.exists() && packed.exists()) {
+        return Ok(results_file(dir));
     }
-    Ok(results_file(dir))
+    let unpacked = read_maybe_packed(&packed)?;
+    let mut start = Vec::new();
+    crate::input_file::open_regular(&plain, MAX_RESULTS_BYTES, RESULTS)
+        .and_then(|f| f.take(unpacked.len() as u64).read_to_end(&mut start))
+        .map_err(io_err(&plain))?;
+    if start == unpacked {
+        Ok(plain)
+    } else {
+        Err(StoreError::BothPresent {
+            dir: dir.to_path_buf(),
+        })
+    }
 }
 
 const RESULTS: &str = "a results file (trials.jsonl)";

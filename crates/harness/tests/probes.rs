@@ -158,6 +158,18 @@ fn an_out_folder_that_is_not_a_folder_is_refused() {
             &[&format!("--out {out}: is {kind}, not a directory")],
         );
     }
+    let o = brdf_sls(dir, &["run", "probe.toml", "--out", "done", "--no-plots"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = brdf_sls(dir, &["export", "--format", "ioh", "done", "--out", "link"]);
+    assert_refused(&o, 2, &["--out link: is a FIFO, not a directory"]);
+    let o = brdf_sls(dir, &["merge", "fifo", "done"]);
+    assert_refused(&o, 2, &["fifo: is a FIFO, not a directory"]);
+    assert!(
+        std::fs::metadata(dir.join("fifo"))
+            .unwrap()
+            .file_type()
+            .is_fifo()
+    );
 }
 
 #[test]
@@ -203,7 +215,7 @@ fn absurd_thread_counts_are_refused_and_useless_threads_are_not_started() {
 }
 
 #[test]
-fn stats_and_plot_refuse_a_folder_a_run_holds_and_clean_stale_temporaries() {
+fn stats_and_plot_refuse_a_folder_a_run_holds() {
     let tmp = with_a_run();
     let done = tmp.path().join("done");
     {
@@ -218,6 +230,12 @@ fn stats_and_plot_refuse_a_folder_a_run_holds_and_clean_stale_temporaries() {
         let o = brdf_sls(tmp.path(), &["stats", "done", "--print-only"]);
         assert!(o.status.success(), "{}", stderr(&o));
     }
+}
+
+#[test]
+fn stats_removes_the_temporaries_of_killed_writers_only() {
+    let tmp = with_a_run();
+    let done = tmp.path().join("done");
     // PIDs above the kernel's largest (2^22) never run; our own test process does.
     let stale = done.join(".stats.csv.tmp-999999999");
     let live = done.join(format!(".stats.csv.tmp-{}", std::process::id()));
@@ -229,14 +247,34 @@ fn stats_and_plot_refuse_a_folder_a_run_holds_and_clean_stale_temporaries() {
     assert!(live.exists(), "a live writer's temporary was removed");
 }
 
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, bytes).unwrap();
+    gz.finish().unwrap()
+}
+
+/// Both files: fine when the plain one starts with the packed one's content (a run unpacked
+/// it and went on), refused when the packed one holds results the plain one lacks.
 #[test]
-fn a_folder_with_both_plain_and_packed_results_is_refused() {
+fn a_folder_with_both_plain_and_packed_results_is_refused_unless_one_extends_the_other() {
     let tmp = with_a_run();
     let done = tmp.path().join("done");
-    let plain = std::fs::read(done.join("trials.jsonl")).unwrap();
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
-    std::io::Write::write_all(&mut gz, &plain).unwrap();
-    std::fs::write(done.join("trials.jsonl.gz"), gz.finish().unwrap()).unwrap();
+    let full = std::fs::read(done.join("trials.jsonl")).unwrap();
+    // The header and the first session line: no trials.
+    let head_len = full
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| **b == b'\n')
+        .nth(1)
+        .unwrap()
+        .0
+        + 1;
+    std::fs::write(done.join("trials.jsonl.gz"), gzip(&full[..head_len])).unwrap();
+    let o = brdf_sls(tmp.path(), &["stats", "done"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    std::fs::write(done.join("trials.jsonl.gz"), gzip(&full)).unwrap();
+    std::fs::write(done.join("trials.jsonl"), &full[..head_len]).unwrap();
     for args in [
         vec!["stats", "done"],
         vec!["run", "probe.toml", "--out", "done", "--no-plots"],
@@ -276,23 +314,24 @@ fn a_stored_trial_with_an_edited_seed_is_refused_naming_its_line() {
 /// Spec values that were accepted silently, each refused naming its key.
 #[test]
 fn out_of_range_budget_and_sample_counts_are_refused_naming_the_key() {
-    let dir = Path::new(".");
-    let parse = |text: &str| {
-        harness::spec::Spec::parse(text, "probe.toml", "probe", dir).map_err(|e| e.to_string())
+    let tmp = tempfile::tempdir().unwrap();
+    let check = |text: String| {
+        std::fs::write(tmp.path().join("probe.toml"), text).unwrap();
+        brdf_sls(tmp.path(), &["check", "probe.toml"])
     };
-    let e = parse(&SPEC.replace("evaluations = 20000", "cpu_seconds = 1e300")).unwrap_err();
-    assert!(
-        e.starts_with("probe.toml:") && e.contains("`budget.cpu_seconds`"),
-        "{e}"
+    let o = check(SPEC.replace("evaluations = 20000", "cpu_seconds = 1e300"));
+    assert_refused(
+        &o,
+        2,
+        &["probe.toml:", "`budget.cpu_seconds`", "at most 1e7"],
     );
-    parse(&SPEC.replace("evaluations = 20000", "cpu_seconds = 1e7")).unwrap();
+    let o = check(SPEC.replace("evaluations = 20000", "cpu_seconds = 1e7"));
+    assert!(o.status.success(), "{}", stderr(&o));
 
-    let e = parse(&SPEC.replace("samples = 200", "samples = 1")).unwrap_err();
-    assert!(
-        e.starts_with("probe.toml:") && e.contains("`synthetic.samples`"),
-        "{e}"
-    );
+    let o = check(SPEC.replace("samples = 200", "samples = 1"));
+    assert_refused(&o, 2, &["probe.toml:", "`synthetic.samples`"]);
     // The least count the message states is accepted, one fewer is not.
+    let e = stderr(&o);
     let least: usize = e
         .split("parameters + 1 (")
         .nth(1)
@@ -300,20 +339,44 @@ fn out_of_range_budget_and_sample_counts_are_refused_naming_the_key() {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no count in: {e}"));
     assert!(least > 2, "{e}");
-    parse(&SPEC.replace("samples = 200", &format!("samples = {least}"))).unwrap();
-    let fewer = format!("samples = {}", least - 1);
-    parse(&SPEC.replace("samples = 200", &fewer)).unwrap_err();
+    let o = check(SPEC.replace("samples = 200", &format!("samples = {least}")));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = check(SPEC.replace("samples = 200", &format!("samples = {}", least - 1)));
+    assert_refused(&o, 2, &["`synthetic.samples`"]);
 }
 
 #[test]
 fn a_long_sweep_over_a_narrow_range_gets_distinct_labels() {
+    let tmp = tempfile::tempdir().unwrap();
     let text =
         format!("{SPEC}[algorithm.sweep]\nphi = {{ from = 1.4, to = 1.4001, steps = 10000 }}\n");
-    let spec = harness::spec::Spec::parse(&text, "probe.toml", "probe", Path::new(".")).unwrap();
-    let labels = spec.config_labels();
-    assert_eq!(labels.len(), 10_000);
-    assert_eq!(labels[0], "AED phi=1.4");
-    assert_eq!(labels[1], "AED phi=1.40000001");
+    std::fs::write(tmp.path().join("probe.toml"), text).unwrap();
+    let o = brdf_sls(tmp.path(), &["check", "probe.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("configurations (10000)"),
+        "{}",
+        &out[..out.len().min(2000)]
+    );
+    let lines: Vec<&str> = out.lines().collect();
+    let first = lines
+        .iter()
+        .position(|l| l.starts_with("configurations"))
+        .unwrap()
+        + 1;
+    assert!(
+        lines[first].trim_start().starts_with("AED phi=1.4 "),
+        "{}",
+        lines[first]
+    );
+    assert!(
+        lines[first + 1]
+            .trim_start()
+            .starts_with("AED phi=1.40000001 "),
+        "{}",
+        lines[first + 1]
+    );
 }
 
 #[test]
