@@ -11,7 +11,7 @@ mod common;
 use std::os::unix::fs::{FileTypeExt, symlink};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// A spec whose 3 trials take milliseconds.
 const SPEC: &str = r#"
@@ -37,9 +37,10 @@ kind = "aed"
 "#;
 
 /// Runs the binary in `dir`, killing it (and failing) after 60 s: a probe that hangs on a
-/// FIFO or reads without end fails instead of blocking the suite.
+/// FIFO or reads without end fails instead of blocking the suite. The output is collected by
+/// another thread while waiting, so a long output cannot fill the pipe and stall the child.
 fn brdf_sls(dir: &Path, args: &[&str]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+    let child = Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
         .args(args)
         .current_dir(dir)
         .env("CI", "true")
@@ -48,16 +49,16 @@ fn brdf_sls(dir: &Path, args: &[&str]) -> Output {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > Duration::from_secs(60) {
-            let _ = child.kill();
-            let _ = child.wait();
+    let pid = child.id().to_string();
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(child.wait_with_output()));
+    match receive.recv_timeout(Duration::from_secs(60)) {
+        Ok(output) => output.unwrap(),
+        Err(_) => {
+            let _ = Command::new("kill").args(["-9", &pid]).status();
             panic!("brdf-sls {args:?} did not end within 60 s");
         }
-        std::thread::sleep(Duration::from_millis(10));
     }
-    child.wait_with_output().unwrap()
 }
 
 fn stderr(o: &Output) -> String {

@@ -49,7 +49,8 @@ pub(super) fn budget(cx: &Ctx<'_>, raw: Spanned<RawBudget>) -> Result<Budget, Sp
         return Err(cx.invalid(
             line,
             format!(
-                "`budget.cpu_seconds` must be a positive number of at most {MAX_CPU_SECONDS:e}, found {c}"
+                "`budget.cpu_seconds` must be a positive number of at most {MAX_CPU_SECONDS:e}, found {}",
+                crate::spec::format_value(c)
             ),
         ));
     }
