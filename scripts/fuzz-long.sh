@@ -2,6 +2,9 @@
 # Long fuzz run of the reader and parameter properties (crates/model/tests/fuzz_readers.rs):
 # parse_cornell, parse_csv, MerlBrdf::from_bytes, parameter JSON + validate + try_synthetic,
 # and the try_synthetic limits; and of the spec parser (crates/harness/tests/fuzz_spec.rs).
+# Then the probes from outside (crates/harness/tests/probes.rs): FIFOs and links to them as
+# specs, results files, results folders and output files for every command that reads or
+# writes them; absurd --threads and budgets; huge labels; a locked folder; edited results.
 # `cargo test` runs a few hundred cases of each; this runs CASES per property in release mode
 # and reports the total number of executions.
 #
@@ -22,6 +25,10 @@ status=$?
 if [ "$status" -eq 0 ]; then
     PROPTEST_CASES=$cases cargo test --release -p harness --test fuzz_spec \
         -- --nocapture --test-threads="$threads" >>"$log" 2>&1
+    status=$?
+fi
+if [ "$status" -eq 0 ]; then
+    cargo test --release -p harness --test probes -- --test-threads="$threads" >>"$log" 2>&1
     status=$?
 fi
 secs=$(( $(date +%s) - start ))

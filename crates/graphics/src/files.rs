@@ -83,11 +83,19 @@ pub fn svg_text(figure: &impl Figure, size: (u32, u32)) -> Result<String, String
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then
 /// rename. Parent directories are created.
+///
+/// A symbolic link is written through: its target gets the new content (atomically, beside the
+/// target) and the link stays. A path that is (or links to) a device, FIFO, socket or
+/// directory is refused with [`std::io::ErrorKind::InvalidInput`] and left untouched.
+/// Temporaries of the same name left by killed writers are removed first (see
+/// [`crate::target::remove_stale_temporaries`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let path = &crate::target::write_target(path)?;
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
     if let Some(d) = dir {
         std::fs::create_dir_all(d)?;
     }
+    crate::target::remove_stale_temporaries(path);
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -120,6 +128,42 @@ mod tests {
             std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
             1
         );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symlink_is_written_through_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.csv");
+        let link = dir.path().join("link.csv");
+        std::fs::write(&real, "old").unwrap();
+        std::os::unix::fs::symlink("real.csv", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(link.symlink_metadata().unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_refused_and_left_in_place() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe.csv");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let link = dir.path().join("to-pipe.csv");
+        std::os::unix::fs::symlink(&fifo, &link).unwrap();
+        for p in [&fifo, &link] {
+            let err = write_atomic(p, b"x").unwrap_err();
+            assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
+            assert!(err.to_string().contains("a FIFO"), "{err}");
+        }
+        assert!(fifo.symlink_metadata().unwrap().file_type().is_fifo());
+        assert!(link.symlink_metadata().unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
     }
 
     struct Blank;

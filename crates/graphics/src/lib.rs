@@ -12,6 +12,7 @@ pub mod chart;
 pub mod files;
 pub mod polar;
 pub mod render;
+pub mod target;
 
 pub use chart::PlotError;
 /// Colours of series and curves.

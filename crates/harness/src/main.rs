@@ -13,6 +13,7 @@ mod cli;
 mod cmd;
 
 fn main() -> ExitCode {
+    harness::signals::ignore_file_size_signal();
     let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

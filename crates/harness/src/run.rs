@@ -175,6 +175,9 @@ pub enum RunError {
     /// The results store failed or refused.
     #[error(transparent)]
     Store(#[from] StoreError),
+    /// A stored trial has another seed than the plan's for its key.
+    #[error("{0}")]
+    Seed(#[from] crate::seed_check::SeedMismatch),
     /// A trial panicked (a bug in the algorithm or model); finished trials are kept.
     #[error(
         "trial {key} (seed {seed}) panicked: {message}; the trials finished so far are saved, rerun to resume"
@@ -314,6 +317,7 @@ pub fn run_locked<E: Executor>(
         Some(s) => s.select(spec.trials_plan()),
         None => spec.trials_plan(),
     };
+    crate::seed_check::check_seeds(opened.store.path(), &opened.records, &plan)?;
     let plan_keys: HashSet<&str> = plan.iter().map(|t| t.key.as_str()).collect();
     let done: HashSet<String> = opened
         .records
@@ -347,7 +351,8 @@ pub fn run_locked<E: Executor>(
     let progress = Progress::new(options.progress, &labels, &totals, &done_c, &ok_c);
 
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
+        // More threads than trials left would only idle.
+        .num_threads(threads.min(pending.len()).max(1))
         .thread_name(|i| format!("trial-{i}"))
         .build()
         .map_err(|e| RunError::Pool {

@@ -181,21 +181,18 @@ fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
 /// A write that fails part-way (here: the file-size limit, `EFBIG`; a full disk fails the same
 /// way) ends the run with status 1 and a message saying what happened, and leaves the results
 /// file cut back to its last complete line, so the next run resumes to the outcomes of an
-/// uninterrupted one.
-#[cfg(target_os = "linux")]
-#[test]
-fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
+/// uninterrupted one. `prelude` runs in bash before the binary is exec'ed under
+/// `ulimit -f 12` (bash counts KiB).
+fn a_failed_write_is_cut_back_and_resumes(prelude: &str) {
     let (tmp, whole) = spec_and_whole_run();
     let dir = tmp.path();
 
-    // bash's `ulimit -f` counts KiB. With SIGXFSZ ignored (kept across exec), a write past
-    // the limit fails with EFBIG instead of killing the process.
     let limited = command(dir, "limited");
     let mut args: Vec<String> = vec![limited.get_program().to_string_lossy().into_owned()];
     args.extend(limited.get_args().map(|a| a.to_string_lossy().into_owned()));
     let o = Command::new("bash")
         .arg("-c")
-        .arg("trap '' XFSZ; ulimit -f 12; exec \"$@\"")
+        .arg(format!("{prelude} ulimit -f 12; exec \"$@\""))
         .arg("bash")
         .args(&args)
         .current_dir(dir)
@@ -204,7 +201,7 @@ fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(o.status.code(), Some(1), "{:?}: {err}", o.status);
     assert!(err.contains("cut back to its last complete line"), "{err}");
     assert_eq!(err.matches("File too large").count(), 1, "{err}");
 
@@ -215,4 +212,19 @@ fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
     assert!(kept.records.len() < whole.len());
 
     assert_eq!(run_to_end(dir, "limited"), whole);
+}
+
+/// With SIGXFSZ ignored by the caller (kept across exec), the write fails with `EFBIG`.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_write_leaves_no_torn_line_and_the_run_resumes() {
+    a_failed_write_is_cut_back_and_resumes("trap '' XFSZ;");
+}
+
+/// With the signal's default action (which kills a process): the binary ignores SIGXFSZ
+/// itself, so the same cut-back path runs.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_file_size_signal_does_not_kill_the_run() {
+    a_failed_write_is_cut_back_and_resumes("");
 }

@@ -11,6 +11,9 @@ use crate::cli::CheckArgs;
 /// `brdf-sls check`.
 pub fn check(a: CheckArgs) -> Result<()> {
     let mut spec = load_spec(&a.spec)?;
+    if let Some(n) = a.threads {
+        harness::threads::check(n, "--threads").map_err(input_error)?;
+    }
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     say!("{}", spec.describe(threads).trim_end());
     for i in &spec.instances {

@@ -40,6 +40,8 @@ pub fn export(a: ExportArgs) -> Result<()> {
         );
     }
     let out = a.out.clone().unwrap_or_else(|| dir.join("ioh"));
+    harness::input_file::check_out_dir(&out)
+        .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let done = match a.format {
         ExportFormat::Ioh => {
             harness::export::export_ioh(&spec, &records, &out).map_err(|e| match e {

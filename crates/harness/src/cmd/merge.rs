@@ -14,6 +14,8 @@ const LIST_MISSING: usize = 20;
 
 /// `brdf-sls merge`.
 pub fn merge(a: MergeArgs) -> Result<()> {
+    harness::input_file::check_out_dir(&a.out)
+        .map_err(|e| super::input_error(format!("{}: {e}", a.out.display())))?;
     let outcome = merge_folders(&a.out, &a.shards, a.allow_partial)
         .with_context(|| format!("merging into {}", a.out.display()))?;
     for i in &outcome.inputs {

@@ -92,6 +92,8 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
+            || harness::input_file::is_refused(c)
+            || c.is::<harness::seed_check::SeedMismatch>()
             || c.is::<harness::spec::SpecError>()
             || c.is::<brdf_model::DataError>()
             || c.is::<brdf_model::ModelError>()
@@ -108,6 +110,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                         | harness::run::RunError::Store(
                             harness::store::StoreError::FingerprintMismatch { .. }
                                 | harness::store::StoreError::DataChanged { .. }
+                                | harness::store::StoreError::BothPresent { .. }
                         )
                 )
             )
@@ -118,6 +121,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                 Some(
                     harness::store::StoreError::FingerprintMismatch { .. }
                         | harness::store::StoreError::DataChanged { .. }
+                        | harness::store::StoreError::BothPresent { .. }
                 )
             )
     })

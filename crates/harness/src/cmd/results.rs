@@ -85,6 +85,15 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         }
         return Ok(());
     }
+    // The folder's lock, held while writing: a running `run` holds it (and would rewrite these
+    // files when it ends), so writing now would race with it.
+    let _lock = harness::store::DirLock::acquire(&dir).with_context(|| {
+        format!(
+            "not writing {} into {}",
+            if plots { "plots" } else { "statistics" },
+            dir.display()
+        )
+    })?;
     let report =
         harness::report::write_report(&spec, &contents.records, &contents.sessions, &dir, plots)?;
     say!("{}", report.table);

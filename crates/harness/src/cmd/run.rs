@@ -23,10 +23,9 @@ pub fn run(a: RunArgs) -> Result<()> {
             None => base,
         }
     });
-    let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
-    if threads == 0 {
-        return Err(input_error("--threads must be at least 1"));
-    }
+    harness::input_file::check_out_dir(&out)
+        .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
+    let threads = useful_threads(&a, &spec)?;
     let kernel = a.kernel.unwrap_or(spec.kernel);
     let prepared = prepare(spec, &out).map_err(|e| match e {
         PrepareError::Store(e) => anyhow::Error::new(e),
@@ -110,4 +109,27 @@ pub fn run(a: RunArgs) -> Result<()> {
     };
     say!("wrote {written} files to {} ({what})", out.display());
     Ok(())
+}
+
+/// The worker threads of a run: the flag's, else the spec's, else all CPUs; refused above
+/// [`harness::threads::MAX_THREADS`], and capped (with a note) at the trials of the plan (or
+/// shard, or `--limit`) and the logical CPUs.
+fn useful_threads(a: &RunArgs, spec: &Spec) -> Result<usize> {
+    let requested = match a.threads {
+        Some(n) => {
+            harness::threads::check(n, "--threads").map_err(input_error)?;
+            n
+        }
+        None => spec.threads.unwrap_or_else(default_threads),
+    };
+    let planned = match a.shard {
+        Some(s) => s.select(spec.trials_plan()).len(),
+        None => spec.trials_plan().len(),
+    };
+    let trials = a.limit.map_or(planned, |l| planned.min(l));
+    let (threads, capped) = harness::threads::useful(requested, trials, default_threads());
+    if let Some(c) = capped {
+        note!("note: {c}");
+    }
+    Ok(threads)
 }

@@ -5,6 +5,10 @@
 /// Samples of a synthetic instance (a data set holds 7 numbers of 8 bytes per sample).
 pub const MAX_SAMPLES: usize = brdf_model::MAX_SAMPLES;
 
+/// CPU-time cutoff of one trial, in seconds (115 days: beyond it a cutoff is a typo, and a
+/// plan's work estimate overflows into nonsense).
+pub const MAX_CPU_SECONDS: f64 = 1e7;
+
 /// Lobes of a model.
 pub const MAX_LOBES: usize = 64;
 

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use sls::{AlgorithmConfig, Budget};
 
 mod describe;
+mod labels;
 pub mod limits;
 mod parsed;
 mod plan;
@@ -449,7 +450,7 @@ impl Spec {
     /// Reads and validates a spec file, including the limits only new runs are held to
     /// (label length: [`limits::MAX_LABEL_CHARS`]).
     pub fn from_file(path: &Path) -> Result<Spec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
+        let text = crate::input_file::read_spec_text(path).map_err(|source| SpecError::Io {
             path: path.display().to_string(),
             source,
         })?;

@@ -103,7 +103,14 @@ fn entry_configurations(
             descent,
         }]);
     }
-    let combos = cartesian(cx, &sweep, lines)?;
+    let labelled: Vec<(String, Vec<(toml::Value, String)>)> = sweep
+        .into_iter()
+        .map(|(k, values)| {
+            let labels = super::labels::distinct_labels(&values);
+            (k, values.into_iter().zip(labels).collect())
+        })
+        .collect();
+    let combos = cartesian(cx, &labelled, lines)?;
     combos
         .into_iter()
         .map(|combo| swept_configuration(cx, &table, &label, descent, combo, lines))
@@ -242,11 +249,11 @@ fn sweep_of(
 
 /// Every combination of swept values, the first key varying slowest; refused before it is
 /// built when it would exceed [`MAX_CONFIGURATIONS`].
-fn cartesian(
+fn cartesian<T: Clone>(
     cx: &Ctx<'_>,
-    sweep: &[(String, Vec<toml::Value>)],
+    sweep: &[(String, Vec<T>)],
     lines: &EntryLines,
-) -> Result<Vec<Vec<(String, toml::Value)>>, SpecError> {
+) -> Result<Vec<Vec<(String, T)>>, SpecError> {
     let total = sweep
         .iter()
         .fold(1usize, |n, (_, v)| n.saturating_mul(v.len()));
@@ -258,7 +265,7 @@ fn cartesian(
             ),
         ));
     }
-    let mut combos: Vec<Vec<(String, toml::Value)>> = vec![Vec::new()];
+    let mut combos: Vec<Vec<(String, T)>> = vec![Vec::new()];
     for (k, values) in sweep {
         combos = combos
             .iter()
@@ -279,15 +286,15 @@ fn swept_configuration(
     base: &toml::Table,
     label: &str,
     descent: sls::DescentModel,
-    combo: Vec<(String, toml::Value)>,
+    combo: Vec<(String, (toml::Value, String))>,
     lines: &EntryLines,
 ) -> Result<Configuration, SpecError> {
     let mut t = base.clone();
     let mut parts = vec![label.to_string()];
     let mut swept = Vec::new();
-    for (k, v) in &combo {
+    for (k, (v, v_label)) in &combo {
         t.insert(k.clone(), v.clone());
-        parts.push(format!("{k}={}", value_label(v)));
+        parts.push(format!("{k}={v_label}"));
         // sweep_values admits numbers only, so this always converts.
         swept.push((k.clone(), as_f64(v).unwrap_or_default()));
     }
@@ -380,31 +387,7 @@ fn range_values(t: &toml::Table) -> Result<Vec<toml::Value>, String> {
 
 /// Formats a swept value for a label: integers plainly, reals with up to 4 significant digits.
 pub fn format_value(x: f64) -> String {
-    if x == x.trunc() && x.abs() < 1e15 {
-        format!("{x:.0}")
-    } else if x.abs() >= 1e-3 && x.abs() < 1e6 {
-        let s = format!(
-            "{:.*}",
-            (3 - x.abs().log10().floor() as i32).max(0) as usize,
-            x
-        );
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{x:.3e}")
-    }
-}
-
-fn value_label(v: &toml::Value) -> String {
-    match v {
-        toml::Value::Integer(i) => i.to_string(),
-        toml::Value::Float(f) => format_value(*f),
-        toml::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    }
+    super::labels::format_digits(x, 4)
 }
 
 /// Deserialises an `AlgorithmConfig` from a table and validates it. serde's internally tagged

@@ -11,8 +11,8 @@ use toml::Spanned;
 use crate::params::ParamsInput;
 
 use super::limits::{
-    MAX_BOOTSTRAP, MAX_ERROR_STEPS, MAX_LABEL_CHARS, MAX_LOBES, MAX_PLANNED_TRIALS,
-    MAX_SAMPLE_PARAMS, MAX_SAMPLES, MAX_TARGETS, MAX_TRACE_TRIALS,
+    MAX_BOOTSTRAP, MAX_CPU_SECONDS, MAX_ERROR_STEPS, MAX_LABEL_CHARS, MAX_LOBES,
+    MAX_PLANNED_TRIALS, MAX_SAMPLE_PARAMS, MAX_SAMPLES, MAX_TARGETS, MAX_TRACE_TRIALS,
 };
 use super::parsed::{ParsedBudget, ParsedInstance, ParsedModel, ParsedSynthetic, line_of};
 use super::{DataFormat, InstanceSpec, ModelSpec, PlotSpec, Source, SpecError, StatsSpec};
@@ -46,11 +46,14 @@ pub(super) fn budget(cx: &Ctx<'_>, raw: Spanned<ParsedBudget>) -> Result<Budget,
     let line = cx.line(&raw);
     let rb = raw.into_inner();
     if let Some(c) = rb.cpu_seconds
-        && !(c.is_finite() && c > 0.0)
+        && !(c > 0.0 && c <= MAX_CPU_SECONDS)
     {
         return Err(cx.invalid(
             line,
-            format!("`budget.cpu_seconds` must be a positive number, found {c}"),
+            format!(
+                "`budget.cpu_seconds` must be a positive number of at most {MAX_CPU_SECONDS:e}, found {}",
+                crate::spec::format_value(c)
+            ),
         ));
     }
     if let Some(e) = rb.evaluations
@@ -78,8 +81,8 @@ pub(super) fn counts(cx: &Ctx<'_>, trials: u32, threads: Option<usize>) -> Resul
     if trials == 0 {
         return Err(cx.invalid(None, "`trials` must be at least 1".into()));
     }
-    if threads == Some(0) {
-        return Err(cx.invalid(None, "`threads` must be at least 1".into()));
+    if let Some(n) = threads {
+        crate::threads::check(n, "`threads`").map_err(|m| cx.invalid(None, m))?;
     }
     Ok(())
 }
@@ -399,6 +402,18 @@ fn model(
                 "instance `{name}`: {samples} samples x {} free parameters is more than {MAX_SAMPLE_PARAMS} \
                  Jacobian entries per worker thread; use fewer samples or lobes",
                 layout.dim()
+            ),
+        ));
+    }
+    if let Source::Synthetic { samples, .. } = source
+        && *samples <= layout.dim()
+    {
+        return Err(cx.invalid(
+            line,
+            format!(
+                "instance `{name}`: `synthetic.samples` must be at least the model's free \
+                 parameters + 1 ({}) for a fit to be determined, found {samples}",
+                layout.dim() + 1
             ),
         ));
     }

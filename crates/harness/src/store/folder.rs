@@ -7,8 +7,8 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use super::{
-    Contents, LOCK_FILE, StoreError, io_err, is_packed, parse_contents, read_maybe_packed,
-    results_file,
+    Contents, LOCK_FILE, PACKED_TRIALS_FILE, StoreError, TRIALS_FILE, io_err, is_packed,
+    parse_contents, read_maybe_packed,
 };
 
 /// The advisory lock of a results folder, held while a store writes to it (released on drop).
@@ -110,7 +110,15 @@ impl LockedFolder {
 }
 
 fn read_found(dir: &Path) -> Found {
-    let path = results_file(dir);
+    for p in [dir.join(TRIALS_FILE), dir.join(PACKED_TRIALS_FILE)] {
+        if let Err(e) = crate::input_file::check_regular_if_present(&p, super::RESULTS) {
+            return Found::Failed(io_err(&p)(e));
+        }
+    }
+    let path = match super::results_file_checked(dir) {
+        Ok(p) => p,
+        Err(e) => return Found::Failed(e),
+    };
     if !path.exists() {
         return Found::Nothing;
     }

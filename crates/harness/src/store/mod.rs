@@ -32,7 +32,6 @@
 //! `trials.jsonl` (keeping the packed copy) before resuming, so nobody has to unpack by hand.
 
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
@@ -149,6 +148,18 @@ pub enum StoreError {
     TooLarge {
         /// The packed file.
         path: PathBuf,
+    },
+    /// A folder holds both `trials.jsonl` and `trials.jsonl.gz`, and the plain file was not
+    /// unpacked from the packed one: which one holds the results is unknown, so neither is read.
+    #[error(
+        "{dir} holds both {TRIALS_FILE} and {PACKED_TRIALS_FILE}, and the plain file does not \
+         start with the packed one's results; refusing to guess which holds the results: \
+         remove (or move away) {PACKED_TRIALS_FILE} to use the plain file, or {TRIALS_FILE} \
+         to use the packed one"
+    )]
+    BothPresent {
+        /// The results folder.
+        dir: PathBuf,
     },
     /// The file has a newer format version.
     #[error(
@@ -449,16 +460,41 @@ fn is_packed(path: &Path) -> bool {
     path.extension().is_some_and(|e| e == "gz")
 }
 
-/// Reads a file, unpacking it when its name ends in `.gz`.
-fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
-    folder::count_read();
-    let file = File::open(path).map_err(io_err(path))?;
-    if !is_packed(path) {
-        let mut bytes = Vec::new();
-        let mut reader = std::io::BufReader::new(file);
-        reader.read_to_end(&mut bytes).map_err(io_err(path))?;
-        return Ok(bytes);
+/// The results file of a folder as [`results_file`]. When both the plain and the packed file
+/// exist, the plain one is used only if it starts with the packed one's content (a `run`
+/// unpacked it and appended); otherwise the packed file holds results the plain one lacks, and
+/// the folder is refused ([`StoreError::BothPresent`]) rather than one of them ignored.
+pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
+    let plain = dir.join(TRIALS_FILE);
+    let packed = dir.join(PACKED_TRIALS_FILE);
+    if !(plain.exists() && packed.exists()) {
+        return Ok(results_file(dir));
     }
+    let unpacked = read_maybe_packed(&packed)?;
+    let mut start = Vec::new();
+    crate::input_file::open_regular(&plain, MAX_RESULTS_BYTES, RESULTS)
+        .and_then(|f| f.take(unpacked.len() as u64).read_to_end(&mut start))
+        .map_err(io_err(&plain))?;
+    if start == unpacked {
+        Ok(plain)
+    } else {
+        Err(StoreError::BothPresent {
+            dir: dir.to_path_buf(),
+        })
+    }
+}
+
+const RESULTS: &str = "a results file (trials.jsonl)";
+
+/// Reads a file, unpacking it when its name ends in `.gz`. Only regular files are read, each
+/// up to [`MAX_RESULTS_BYTES`] (see [`crate::input_file`]).
+fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
+    use crate::input_file::{open_regular, read_regular};
+    folder::count_read();
+    if !is_packed(path) {
+        return read_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path));
+    }
+    let file = open_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path))?;
     let mut bytes = Vec::new();
     flate2::read::GzDecoder::new(std::io::BufReader::new(file))
         .take(MAX_RESULTS_BYTES + 1)
@@ -476,7 +512,7 @@ fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
 /// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
 pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
     let file = if path.is_dir() {
-        results_file(path)
+        results_file_checked(path)?
     } else {
         path.to_path_buf()
     };
