@@ -1,6 +1,6 @@
 //! Tests of the results store: round trips, resume, torn lines, locks, packed files.
 
-use std::fs::OpenOptions;
+use std::fs::{File, OpenOptions};
 use std::io::Write;
 
 use super::*;
