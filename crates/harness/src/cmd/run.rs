@@ -95,9 +95,8 @@ pub fn run(a: RunArgs) -> Result<()> {
     .context("writing statistics and plots")?;
     say!("{}", report.table);
     say!(
-        "wrote {} files to {} (statistics: stats.csv, tests.csv; plots: plots/)",
-        report.files.len(),
-        out.display()
+        "{}",
+        super::written_summary(report.files.len(), &out, !a.no_plots)
     );
     Ok(())
 }
