@@ -78,6 +78,13 @@ pub fn line_style(i: usize) -> Style {
     }
 }
 
+/// Styles that stay tellable apart when curves lie on top of each other (solid, dashed, dotted,
+/// solid with square markers), cycling: for series that may coincide, such as kernels whose
+/// error histograms agree bin for bin.
+pub fn distinct_style(i: usize) -> Style {
+    [Style::Line, Style::Dashed, Style::Dotted, Style::Marked][i % 4]
+}
+
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Style {
@@ -85,6 +92,10 @@ pub enum Style {
     Line,
     /// A dashed polyline.
     Dashed,
+    /// A dotted polyline (drawn thinner, so a coinciding curve shows through).
+    Dotted,
+    /// A thin solid polyline with hollow square markers at the points.
+    Marked,
     /// Markers only (filled circles).
     Points,
     /// Markers only (hollow circles).
@@ -134,10 +145,16 @@ pub struct Chart {
     pub y_log: bool,
     /// Series in drawing order.
     pub series: Vec<Series>,
-    /// Vertical reference lines `(x, label)` (dashed grey).
+    /// Vertical reference lines `(x, label)` (grey, dashed).
     pub vlines: Vec<(f64, String)>,
-    /// Horizontal reference lines `(y, label)` (dashed grey).
+    /// Horizontal reference lines `(y, label)` (grey, dashed; each line of a chart its own dash
+    /// pattern, so the legend tells them apart).
     pub hlines: Vec<(f64, String)>,
+    /// Whether reference lines with a non-empty label get a legend entry.
+    pub legend_lines: bool,
+    /// Names of the rows of a categorical y axis: the value `k` (1-based) is labelled
+    /// `y_categories[k - 1]` and no other tick is labelled. Empty: a numeric axis.
+    pub y_categories: Vec<String>,
     /// Fixed x range (default: from the data).
     pub x_range: Option<(f64, f64)>,
     /// Fixed y range (default: from the data).
@@ -162,6 +179,8 @@ impl Chart {
             series: Vec::new(),
             vlines: Vec::new(),
             hlines: Vec::new(),
+            legend_lines: true,
+            y_categories: Vec::new(),
             x_range: None,
             y_range: None,
             legend: LegendAt::UpperLeft,
@@ -230,6 +249,16 @@ pub fn log_tick(v: f64) -> String {
     } else {
         String::new()
     }
+}
+
+/// Tick label on a categorical axis: the name of row `v` (1-based) when `v` is that row's
+/// integer, else blank (ticks between rows mean nothing).
+fn category_tick(names: &[String], v: f64) -> String {
+    let k = v.round();
+    if (v - k).abs() > 1e-9 || k < 1.0 || k > names.len() as f64 {
+        return String::new();
+    }
+    names[k as usize - 1].clone()
 }
 
 /// Compact tick labels: 0.001, 0.5, 12, 3.4k, 1.2M, 1e9.
@@ -358,7 +387,15 @@ where
         .build_cartesian_2d(xr, yr)
         .map_err(e)?;
     let x_fmt = |v: &f64| if c.x_log { log_tick(*v) } else { tick(*v) };
-    let y_fmt = |v: &f64| if c.y_log { log_tick(*v) } else { tick(*v) };
+    let y_fmt = |v: &f64| {
+        if !c.y_categories.is_empty() {
+            category_tick(&c.y_categories, *v)
+        } else if c.y_log {
+            log_tick(*v)
+        } else {
+            tick(*v)
+        }
+    };
     chart
         .configure_mesh()
         .x_desc(c.x_label.as_str())
@@ -376,28 +413,36 @@ where
     let (xs, ys) = (chart.x_range(), chart.y_range());
     let clamp = |p: (f64, f64)| (p.0.clamp(xs.start, xs.end), p.1.clamp(ys.start, ys.end));
     let grey = RGBColor(110, 110, 110);
-    for (x, _) in &c.vlines {
-        if *x >= xs.start && *x <= xs.end {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(*x, ys.start), (*x, ys.end)],
-                    6,
-                    4,
-                    grey.stroke_width(1),
-                ))
-                .map_err(e)?;
-        }
-    }
-    for (y, _) in &c.hlines {
-        if *y >= ys.start && *y <= ys.end {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(xs.start, *y), (xs.end, *y)],
-                    6,
-                    4,
-                    grey.stroke_width(1),
-                ))
-                .map_err(e)?;
+    // (dash, gap) per reference line, so two lines of one chart differ in the legend too.
+    const DASHES: [(u32, u32); 3] = [(6, 4), (2, 3), (12, 4)];
+    let lines = c
+        .vlines
+        .iter()
+        .filter(|(x, _)| *x >= xs.start && *x <= xs.end)
+        .map(|(x, l)| (vec![(*x, ys.start), (*x, ys.end)], l))
+        .chain(
+            c.hlines
+                .iter()
+                .filter(|(y, _)| *y >= ys.start && *y <= ys.end)
+                .map(|(y, l)| (vec![(xs.start, *y), (xs.end, *y)], l)),
+        );
+    let mut legend_entries = 0;
+    for (k, (ends, label)) in lines.enumerate() {
+        let (dash, gap) = DASHES[k % DASHES.len()];
+        let anno = chart
+            .draw_series(DashedLineSeries::new(ends, dash, gap, grey.stroke_width(1)))
+            .map_err(e)?;
+        if c.legend_lines && !label.is_empty() {
+            legend_entries += 1;
+            anno.label(label.as_str()).legend(move |(x, y)| {
+                // The first four dashes of the pattern over the 20-pixel legend swatch.
+                let seg = |i: i32| {
+                    let from = (i * (dash + gap) as i32).min(20);
+                    let to = (from + dash as i32).min(20);
+                    PathElement::new(vec![(from, 0), (to, 0)], grey.stroke_width(1))
+                };
+                EmptyElement::at((x, y)) + seg(0) + seg(1) + seg(2) + seg(3)
+            });
         }
     }
     for s in &c.series {
@@ -428,6 +473,20 @@ where
             Style::Dashed => chart
                 .draw_series(DashedLineSeries::new(pts, 8, 5, col.stroke_width(2)))
                 .map_err(e)?,
+            Style::Dotted => chart
+                .draw_series(DashedLineSeries::new(pts, 2, 4, col.stroke_width(2)))
+                .map_err(e)?,
+            Style::Marked => {
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), col.stroke_width(1)))
+                    .map_err(e)?;
+                chart
+                    .draw_series(pts.into_iter().map(|p| {
+                        EmptyElement::at(p)
+                            + Rectangle::new([(-4, -4), (4, 4)], col.stroke_width(1))
+                    }))
+                    .map_err(e)?
+            }
             Style::Points => chart
                 .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, col.filled())))
                 .map_err(e)?,
@@ -439,28 +498,35 @@ where
                 .map_err(e)?,
         };
         if let Some(label) = &s.label {
-            let style = s.style;
-            anno.label(label.as_str()).legend(
-                move |(x, y)| -> DynElement<'static, DB, (i32, i32)> {
-                    match style {
-                        Style::Points => Circle::new((x + 10, y), 4, col.filled()).into_dyn(),
-                        Style::HollowPoints => {
-                            Circle::new((x + 10, y), 4, col.stroke_width(1)).into_dyn()
-                        }
-                        Style::Dashed => {
-                            PathElement::new(vec![(x, y), (x + 8, y)], col.stroke_width(2))
-                                .into_dyn()
-                        }
-                        Style::Line => {
-                            PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
-                                .into_dyn()
-                        }
-                    }
-                },
-            );
+            let anno = anno.label(label.as_str());
+            match s.style {
+                Style::Points => {
+                    anno.legend(move |(x, y)| Circle::new((x + 10, y), 4, col.filled()))
+                }
+                Style::HollowPoints => {
+                    anno.legend(move |(x, y)| Circle::new((x + 10, y), 4, col.stroke_width(1)))
+                }
+                Style::Dashed => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 8, y)], col.stroke_width(2))
+                }),
+                Style::Dotted => anno.legend(move |(x, y)| {
+                    let dot = |i: i32| {
+                        PathElement::new(vec![(6 * i, 0), (6 * i + 2, 0)], col.stroke_width(2))
+                    };
+                    EmptyElement::at((x, y)) + dot(0) + dot(1) + dot(2) + dot(3)
+                }),
+                Style::Marked => anno.legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (20, 0)], col.stroke_width(1))
+                        + Rectangle::new([(6, -4), (14, 4)], col.stroke_width(1))
+                }),
+                Style::Line => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
+                }),
+            };
         }
     }
-    if c.series.iter().any(|s| s.label.is_some()) {
+    if legend_entries > 0 || c.series.iter().any(|s| s.label.is_some()) {
         let pos = match c.legend {
             LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
             LegendAt::UpperRight => SeriesLabelPosition::UpperRight,

@@ -2,8 +2,8 @@
 //! package's `fit` share, so both check the same things, say the same words and give the same
 //! result for the same seed.
 //!
-//! Error messages name the command-line flags (`--cpu-seconds`, `--set`, ...); the Python
-//! keyword arguments carry the same names with `_` for `-`.
+//! Error messages name the arguments as the caller's [`Surface`] spells them: the command
+//! line's flags (`--cpu-seconds 0`) or the Python keyword arguments (`cpu_seconds=0`).
 
 mod watch;
 
@@ -53,6 +53,36 @@ fn input(message: impl Into<String>) -> FitError {
     FitError::Input(message.into())
 }
 
+/// Who asked for the fit, so that error messages name the arguments the caller wrote.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Surface {
+    /// The command line: flags (`--cpu-seconds 0`).
+    #[default]
+    Cli,
+    /// The Python package: keyword arguments (`cpu_seconds=0`).
+    Python,
+}
+
+impl Surface {
+    /// The argument `flag` (a flag's name without dashes, `cpu-seconds`) with its value, as
+    /// this surface writes it.
+    pub fn arg(self, flag: &str, value: impl std::fmt::Display) -> String {
+        match self {
+            Surface::Cli => format!("--{flag} {value}"),
+            Surface::Python => format!("{}={value}", flag.replace('-', "_")),
+        }
+    }
+
+    /// The algorithm and its settings (`--algorithm`/`--set`, or the positional `algorithm` and
+    /// the keyword settings).
+    fn algorithm_args(self) -> &'static str {
+        match self {
+            Surface::Cli => "--algorithm/--set",
+            Surface::Python => "algorithm/settings",
+        }
+    }
+}
+
 /// What one fit needs besides the data.
 #[derive(Clone, Debug)]
 pub struct FitRequest {
@@ -74,6 +104,8 @@ pub struct FitRequest {
     pub polish: bool,
     /// Progress on standard error.
     pub progress: FitProgress,
+    /// Who asked (how error messages name the arguments).
+    pub surface: Surface,
 }
 
 /// The full-data descents after the search: the search may stop anywhere (budget, target,
@@ -112,6 +144,7 @@ pub struct FitOutcome {
 /// The model `--lobes`, `--kind`, `--fix` and `--exponent` describe, checked against the
 /// lobe limit.
 pub fn model_spec(
+    surface: Surface,
     lobes: usize,
     kind: LobeKind,
     exponent: ExponentCoord,
@@ -119,7 +152,10 @@ pub fn model_spec(
 ) -> Result<ModelSpec, FitError> {
     let max = crate::spec::limits::MAX_LOBES;
     if !(1..=max).contains(&lobes) {
-        return Err(input(format!("--lobes {lobes}: expected 1 to {max}")));
+        return Err(input(format!(
+            "{}: expected 1 to {max}",
+            surface.arg("lobes", lobes)
+        )));
     }
     let mut spec = ModelSpec::simple(lobes, kind);
     spec.exponent = exponent;
@@ -136,28 +172,36 @@ pub fn model_spec(
 /// The algorithm configuration `--algorithm KIND` and `--set NAME=VALUE` describe (missing
 /// settings take the paper's defaults), validated by sls.
 pub fn algorithm_config(
+    surface: Surface,
     kind: &str,
     settings: impl IntoIterator<Item = (String, toml::Value)>,
 ) -> Result<AlgorithmConfig, FitError> {
     let mut table = toml::Table::new();
     table.insert("kind".into(), toml::Value::String(kind.to_string()));
     table.extend(settings);
-    let algorithm: AlgorithmConfig = toml::Value::Table(table)
-        .try_into()
-        .map_err(|e: toml::de::Error| input(format!("--algorithm/--set: {}", e.message())))?;
+    let algorithm: AlgorithmConfig =
+        toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                input(format!("{}: {}", surface.algorithm_args(), e.message()))
+            })?;
     algorithm.validate().map_err(|e| input(e.to_string()))?;
     Ok(algorithm)
 }
 
 /// Checks a fit's budget and target (the algorithm and model are checked when built).
-pub fn check_budget(cpu_seconds: f64, target: f64) -> Result<(), FitError> {
+pub fn check_budget(surface: Surface, cpu_seconds: f64, target: f64) -> Result<(), FitError> {
     if !(cpu_seconds.is_finite() && cpu_seconds > 0.0) {
         return Err(input(format!(
-            "--cpu-seconds {cpu_seconds}: expected a positive number"
+            "{}: expected a positive number",
+            surface.arg("cpu-seconds", cpu_seconds)
         )));
     }
     if !(target.is_finite() && target >= 0.0) {
-        return Err(input(format!("--target {target}: expected >= 0")));
+        return Err(input(format!(
+            "{}: expected >= 0",
+            surface.arg("target", target)
+        )));
     }
     Ok(())
 }
@@ -169,7 +213,7 @@ pub fn fit(
     request: &FitRequest,
     interrupt: Option<Arc<AtomicBool>>,
 ) -> Result<FitOutcome, FitError> {
-    check_budget(request.cpu_seconds, request.target)?;
+    check_budget(request.surface, request.cpu_seconds, request.target)?;
     if data.is_empty() {
         return Err(input("the data set has no samples"));
     }
@@ -330,8 +374,8 @@ pub fn load_data(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
             "--wavelength {wavelength}: expected a positive number of nm"
         )));
     }
-    crate::instance::load_file(fs, path)
-        .map_err(|e| input(format!("reading {}: {e}", path.display())))
+    // Every data error begins with the file's path.
+    crate::instance::load_file(fs, path).map_err(|e| input(format!("reading {e}")))
 }
 
 /// [`load_data`], refusing a data set that the filters left empty.
@@ -352,9 +396,20 @@ mod tests {
 
     fn request(seed: u64) -> FitRequest {
         FitRequest {
-            model: model_spec(1, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap(),
-            algorithm: algorithm_config("aed", [("phi".to_string(), toml::Value::Float(1.2))])
-                .unwrap(),
+            model: model_spec(
+                Surface::Cli,
+                1,
+                LobeKind::Anisotropic,
+                ExponentCoord::Log1p,
+                [],
+            )
+            .unwrap(),
+            algorithm: algorithm_config(
+                Surface::Cli,
+                "aed",
+                [("phi".to_string(), toml::Value::Float(1.2))],
+            )
+            .unwrap(),
             seed,
             cpu_seconds: 30.0,
             target: 0.02,
@@ -362,6 +417,7 @@ mod tests {
             descent: sls::DescentModel::Default,
             polish: true,
             progress: FitProgress::Quiet,
+            surface: Surface::Cli,
         }
     }
 
@@ -389,24 +445,38 @@ mod tests {
 
     #[test]
     fn bad_requests_say_which_flag() {
-        let e = algorithm_config("aed", [("phix".to_string(), toml::Value::Integer(1))]);
+        let phix = || [("phix".to_string(), toml::Value::Integer(1))];
+        let e = algorithm_config(Surface::Cli, "aed", phix());
         assert!(
             e.unwrap_err()
                 .to_string()
                 .starts_with("--algorithm/--set: unknown field `phix`")
         );
-        let e = model_spec(0, LobeKind::Isotropic, ExponentCoord::Raw, []).unwrap_err();
-        assert_eq!(e.to_string(), "--lobes 0: expected 1 to 64");
+        let e = model_spec(Surface::Cli, 0, LobeKind::Isotropic, ExponentCoord::Raw, []);
+        assert_eq!(e.unwrap_err().to_string(), "--lobes 0: expected 1 to 64");
         assert_eq!(
-            check_budget(0.0, 0.0).unwrap_err().to_string(),
+            check_budget(Surface::Cli, 0.0, 0.0)
+                .unwrap_err()
+                .to_string(),
             "--cpu-seconds 0: expected a positive number"
         );
-        assert!(check_budget(1.0, -1.0).unwrap_err().is_input_error());
+        assert!(
+            check_budget(Surface::Cli, 1.0, -1.0)
+                .unwrap_err()
+                .is_input_error()
+        );
         let mut r = request(1);
         r.model.fixed.insert("lobe2.n".into(), 1.0);
         assert!(fit(data(), &r, None).unwrap_err().is_input_error());
         let twice = [("kd".to_string(), 0.1), ("kd".to_string(), 0.2)];
-        let e = model_spec(1, LobeKind::Isotropic, ExponentCoord::Raw, twice).unwrap_err();
+        let e = model_spec(
+            Surface::Cli,
+            1,
+            LobeKind::Isotropic,
+            ExponentCoord::Raw,
+            twice,
+        )
+        .unwrap_err();
         assert_eq!(
             e.to_string(),
             "--fix kd: given twice (0.1 and 0.2); fix each parameter once"
@@ -435,7 +505,14 @@ mod tests {
         let p = brdf_model::named_params("cross").unwrap();
         let data = Arc::new(brdf_model::synthetic(&p, 2000, 0.05, 3));
         let mut r = request(1);
-        r.model = model_spec(2, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap();
+        r.model = model_spec(
+            Surface::Cli,
+            2,
+            LobeKind::Anisotropic,
+            ExponentCoord::Log1p,
+            [],
+        )
+        .unwrap();
         r.target = 0.0;
         r.cpu_seconds = 0.3;
         let fit = fit(data.clone(), &r, None).unwrap();
@@ -477,12 +554,59 @@ mod tests {
         let e = fit(Arc::new(huge), &r, None).unwrap_err().to_string();
         assert!(e.contains("every candidate's RMSE overflowed"), "{e}");
         r.cpu_seconds = 1e-9;
-        r.model = model_spec(64, LobeKind::Anisotropic, ExponentCoord::Log1p, []).unwrap();
+        r.model = model_spec(
+            Surface::Cli,
+            64,
+            LobeKind::Anisotropic,
+            ExponentCoord::Log1p,
+            [],
+        )
+        .unwrap();
         let e = fit(data(), &r, None).unwrap_err().to_string();
         assert!(e.contains("ended before the first evaluation"), "{e}");
         assert!(
             e.contains("500 samples with 321 free parameters took"),
             "{e}"
+        );
+    }
+
+    #[test]
+    fn a_read_error_names_the_file_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing.csv");
+        let fs = FileSpec {
+            path: path.clone(),
+            format: None,
+            wavelength: None,
+            channel: None,
+            max_value: None,
+            drop_negative: false,
+            drop_below_horizon: true,
+        };
+        let m = load_data(&fs).unwrap_err().to_string();
+        let shown = path.display().to_string();
+        assert!(m.starts_with(&format!("reading {shown}: ")), "{m}");
+        assert_eq!(m.matches(&shown).count(), 1, "{m}");
+    }
+
+    #[test]
+    fn python_callers_read_their_keyword_arguments() {
+        let py = Surface::Python;
+        let e = algorithm_config(py, "aed", [("phix".to_string(), toml::Value::Integer(1))]);
+        assert!(
+            e.unwrap_err()
+                .to_string()
+                .starts_with("algorithm/settings: unknown field `phix`")
+        );
+        let e = model_spec(py, 0, LobeKind::Isotropic, ExponentCoord::Raw, []);
+        assert_eq!(e.unwrap_err().to_string(), "lobes=0: expected 1 to 64");
+        assert_eq!(
+            check_budget(py, 0.0, 0.0).unwrap_err().to_string(),
+            "cpu_seconds=0: expected a positive number"
+        );
+        assert_eq!(
+            check_budget(py, 1.0, -1.0).unwrap_err().to_string(),
+            "target=-1: expected >= 0"
         );
     }
 }

@@ -34,7 +34,8 @@ pub fn ulps_histogram(report: &StressReport) -> Chart {
         c.series.push(Series {
             label: Some(format!("{} (max {:.3e} ulps)", k.kernel, k.max_ulps)),
             points,
-            style: chart::line_style(i),
+            // Kernels often agree bin for bin: distinct dash patterns keep each one visible.
+            style: chart::distinct_style(i),
             color: chart::color(i),
             band: Vec::new(),
         });
@@ -47,12 +48,13 @@ pub fn ulps_histogram(report: &StressReport) -> Chart {
 pub fn suite_map(report: &StressReport) -> Chart {
     const GROUPS: [&str; 3] = ["nist", "mgh", "brdf"];
     let mut c = Chart::new(
-        "Solver suite: every case (rows: 1 NIST, 2 MGH, 3 BRDF hostile)",
+        "Solver suite: every case, by group",
         "case (in suite order within its group)",
         "group",
     );
     c.legend = LegendAt::UpperRight;
     c.y_range = Some((0.5, 3.8));
+    c.y_categories = vec!["NIST".into(), "MGH".into(), "BRDF hostile".into()];
     let kinds: [(&str, Style); 3] = [
         ("right", Style::Points),
         ("wrong, failure code", Style::HollowPoints),

@@ -709,6 +709,14 @@ fn bench_writes_its_report_shows_progress_and_rejects_bad_flags() {
     assert_eq!(json["searches"].as_array().unwrap().len(), 6);
     assert_eq!(json["seeds"], 1);
     assert!(!json["kernels"].as_array().unwrap().is_empty());
+    // The load before and after is recorded (Linux has /proc/loadavg) and reported.
+    if std::path::Path::new("/proc/loadavg").exists() {
+        for key in ["load_before", "load_after"] {
+            assert_eq!(json[key].as_array().map(Vec::len), Some(3), "{key}: {json}");
+        }
+    }
+    assert!(json["cores"].as_u64().unwrap() >= 1);
+    assert!(md.contains("Load average (1, 5, 15 minutes)"), "{md}");
 
     // Quiet shows no progress line.
     let o = brdf_sls(&[&args[..], &["--progress", "quiet"]].concat(), dir.path());

@@ -132,10 +132,10 @@ impl PyDataSet {
         let fs = FileSpec {
             path,
             format: format
-                .map(|f| enum_value::<DataFormat>("--format", f))
+                .map(|f| enum_value::<DataFormat>("format", f))
                 .transpose()?,
             wavelength: Some(wavelength),
-            channel: Some(enum_value::<Channel>("--channel", channel)?),
+            channel: Some(enum_value::<Channel>("channel", channel)?),
             max_value,
             drop_negative,
             drop_below_horizon: !keep_below_horizon,

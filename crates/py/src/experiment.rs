@@ -72,7 +72,7 @@ pub fn run(
         .map_or_else(|| "default".into(), |s| s.to_string_lossy().into_owned());
     let threads = threads.or(loaded.threads).unwrap_or_else(default_threads);
     if threads == 0 {
-        return Err(input_err("--threads must be at least 1"));
+        return Err(input_err("threads must be at least 1"));
     }
     let kernel = match kernel {
         Some(k) => k.parse().map_err(input_err)?,

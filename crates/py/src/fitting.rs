@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use brdf_model::{ExponentCoord, Kernel, LobeKind};
-use harness::fit::{FitError, FitOutcome, FitRequest};
+use harness::fit::{FitError, FitOutcome, FitRequest, Surface};
 use numpy::PyArray1;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
@@ -53,13 +53,14 @@ pub fn fit(
     config: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
-    harness::fit::check_budget(cpu_seconds, target).map_err(input_err)?;
+    harness::fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
     let algorithm =
-        harness::fit::algorithm_config(algorithm, settings(config)?).map_err(input_err)?;
+        harness::fit::algorithm_config(Surface::Python, algorithm, settings(config)?).map_err(input_err)?;
     let model = harness::fit::model_spec(
+        Surface::Python,
         lobes,
-        enum_value::<LobeKind>("--kind", kind)?,
-        enum_value::<ExponentCoord>("--exponent", exponent)?,
+        enum_value::<LobeKind>("kind", kind)?,
+        enum_value::<ExponentCoord>("exponent", exponent)?,
         fixed.unwrap_or_default(),
     )
     .map_err(input_err)?;
@@ -76,6 +77,7 @@ pub fn fit(
         descent,
         polish,
         progress: harness::fit::FitProgress::Quiet,
+        surface: Surface::Python,
     };
     let outcome = interruptible(py, |flag| harness::fit::fit(data, &request, Some(flag)))?;
     match outcome {

@@ -135,9 +135,10 @@ impl PyModel {
         kernel: &str,
     ) -> PyResult<Self> {
         let spec = harness::fit::model_spec(
+            harness::fit::Surface::Python,
             lobes,
-            enum_value::<LobeKind>("--kind", kind)?,
-            enum_value::<ExponentCoord>("--exponent", exponent)?,
+            enum_value::<LobeKind>("kind", kind)?,
+            enum_value::<ExponentCoord>("exponent", exponent)?,
             fixed.unwrap_or_default(),
         )
         .map_err(input_err)?;

@@ -89,7 +89,7 @@ pub fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     if v.is_instance_of::<PyInt>() {
         let i: i64 = v
             .extract()
-            .map_err(|_| input_err(format!("--set {key}={v}: integer out of range")))?;
+            .map_err(|_| input_err(format!("{key}={v}: integer out of range")))?;
         return Ok(toml::Value::Integer(i));
     }
     if v.is_instance_of::<PyFloat>() {
@@ -112,7 +112,7 @@ pub fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
         return Ok(toml::Value::Array(items));
     }
     Err(input_err(format!(
-        "--set {key}: expected a number, a string, a bool or a list, found {}",
+        "{key}: expected a number, a string, a bool or a list, found {}",
         v.get_type().name()?
     )))
 }
@@ -142,8 +142,8 @@ pub fn settings(config: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, tom
 
 /// A library enum by its serde name (`anisotropic`, `log1p`, `green`, ...), as the command
 /// line parses it.
-pub fn enum_value<T: serde::de::DeserializeOwned>(flag: &str, s: &str) -> PyResult<T> {
+pub fn enum_value<T: serde::de::DeserializeOwned>(keyword: &str, s: &str) -> PyResult<T> {
     toml::Value::String(s.trim().to_string())
         .try_into()
-        .map_err(|e: toml::de::Error| input_err(format!("{flag} {s}: {}", e.message())))
+        .map_err(|e: toml::de::Error| input_err(format!("{keyword}={s}: {}", e.message())))
 }

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -15,7 +17,7 @@ def test_missing_file_same_message_as_cli(cli, tmp_path):
     with pytest.raises(bs.InputError) as e:
         bs.DataSet.read(missing)
     assert str(e.value) == want
-    assert str(missing) in str(e.value)
+    assert str(e.value).count(str(missing)) == 1, "the path is named once"
 
 
 def test_unknown_extension_same_message_as_cli(cli, tmp_path):
@@ -50,6 +52,12 @@ def test_bad_csv_names_file_and_line(cli, tmp_path):
         ({"--fix": "lobe3.n=2"}, {"fixed": {"lobe3.n": 2.0}}),
     ],
 )
+def python_words(message: str) -> str:
+    """The command line's message with its arguments named as Python writes them."""
+    message = message.replace("--algorithm/--set", "algorithm/settings")
+    return re.sub(r"--([a-z-]+) (\S+):", lambda m: f"{m[1].replace('-', '_')}={m[2]}:", message)
+
+
 def test_bad_fit_arguments_same_message_as_cli(cli, krylon, flags, kwargs):
     flags = {"--cpu-seconds": "1", **flags}
     p = cli("fit", krylon, *(f"{k}={v}" for k, v in flags.items()), check=False)
@@ -59,7 +67,8 @@ def test_bad_fit_arguments_same_message_as_cli(cli, krylon, flags, kwargs):
     algorithm = kwargs.pop("algorithm", "aed")
     with pytest.raises(bs.InputError) as e:
         bs.fit(data, algorithm, **kwargs)
-    assert str(e.value) == cli_error(p)
+    assert str(e.value) == python_words(cli_error(p))
+    assert "--" not in str(e.value), "a Python error names no command-line flag"
 
 
 def test_bad_spec_same_message_as_cli(cli, tmp_path):
@@ -101,9 +110,9 @@ def test_bad_arrays_raise():
 
 
 def test_bad_model_and_parameters_raise():
-    with pytest.raises(bs.InputError, match="--kind weird"):
+    with pytest.raises(bs.InputError, match="kind=weird"):
         bs.Model(kind="weird")
-    with pytest.raises(bs.InputError, match="--lobes 65"):
+    with pytest.raises(bs.InputError, match="lobes=65"):
         bs.Model(lobes=65)
     with pytest.raises(bs.InputError, match="kernel"):
         bs.Model(kernel="gpu")

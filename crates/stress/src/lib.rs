@@ -78,6 +78,9 @@ pub struct StressOptions {
     pub threads: Option<usize>,
     /// Overrides the sizes that `quick` selects (for tests and custom runs).
     pub sizes: Option<Sizes>,
+    /// Called with one line after each check group (kernels; the NIST, MGH and BRDF solver
+    /// groups; diagnostics) with its time and the time elapsed, so a long run is not silent.
+    pub progress: Option<fn(&str)>,
 }
 
 impl Default for StressOptions {
@@ -88,6 +91,7 @@ impl Default for StressOptions {
             seed: 1,
             threads: None,
             sizes: None,
+            progress: None,
         }
     }
 }

@@ -304,12 +304,26 @@ pub(crate) fn run_all(o: &StressOptions) -> Result<StressReport, StressError> {
         Sizes::full()
     });
     let t0 = Instant::now();
+    let last = std::cell::Cell::new(0.0);
+    let done = |group: &str| {
+        let now = t0.elapsed().as_secs_f64();
+        if let Some(progress) = o.progress {
+            progress(&format!(
+                "stress: {group} done in {:.1} s ({:.1} s elapsed)",
+                now - last.get(),
+                now
+            ));
+        }
+        last.set(now);
+    };
     let sets: Vec<&DataSet> = o.data.iter().map(|d| &d.data).collect();
     let kernels = kernels::run(plan.batches, derive_seed(o.seed, 1, 0), &sets);
+    done("kernels");
     let t1 = t0.elapsed().as_secs_f64();
-    let suite = suite::run(derive_seed(o.seed, 2, 0), plan.subsamples);
+    let suite = suite::run_with(derive_seed(o.seed, 2, 0), plan.subsamples, &done);
     let t2 = t0.elapsed().as_secs_f64();
     let diagnostics = diagnostics(o, &plan)?;
+    done("diagnostics");
     let t3 = t0.elapsed().as_secs_f64();
     let checks = checks(&kernels, &suite, &diagnostics);
     Ok(StressReport {

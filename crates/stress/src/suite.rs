@@ -85,6 +85,12 @@ impl SuiteSection {
 
 /// Runs section 2; `subsamples` 25-row subsample cases.
 pub fn run(seed: u64, subsamples: usize) -> SuiteSection {
+    run_with(seed, subsamples, &|_| {})
+}
+
+/// [`run`], calling `done` with a description of each group (NIST, MGH, BRDF hostile) when
+/// that group is done.
+pub fn run_with(seed: u64, subsamples: usize, done: &dyn Fn(&str)) -> SuiteSection {
     let mut cases: Vec<CaseResult> = NAMES
         .par_iter()
         .flat_map_iter(|name| {
@@ -94,8 +100,10 @@ pub fn run(seed: u64, subsamples: usize) -> SuiteSection {
         .collect();
     let nist_total = cases.len();
     let nist_right = cases.iter().filter(|c| c.right).count();
+    done("NIST solver cases");
     let (mgh, mgh_status) = mgh_cases();
     cases.extend(mgh);
+    done("MGH solver cases");
     let brdf: Vec<CaseResult> = brdf_cases(seed, subsamples)
         .into_par_iter()
         .map(|c| c.solve())
@@ -103,6 +111,7 @@ pub fn run(seed: u64, subsamples: usize) -> SuiteSection {
     let brdf_total = brdf.len();
     let brdf_right = brdf.iter().filter(|c| c.right).count();
     cases.extend(brdf);
+    done("BRDF hostile solver cases");
     SuiteSection {
         cases,
         nist_right,

@@ -7,6 +7,13 @@ use brdf_stress::{Sizes, StressOptions, kernels, run};
 /// first, a spurious Jacobian overflow in brdf-model and a false relative-function convergence
 /// on numerically dead lobes in bounded-lm, are fixed), the report renders, and its JSON
 /// round-trips through serde_json.
+/// Progress lines of the reduced run (a plain `fn` can only reach a static).
+static PROGRESS: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+fn record_progress(line: &str) {
+    PROGRESS.lock().unwrap().push(line.to_string());
+}
+
 #[test]
 fn reduced_run_passes_and_reports() {
     let data = synthetic(&named_params("tuning").unwrap(), 200, 0.01, 3);
@@ -25,8 +32,17 @@ fn reduced_run_passes_and_reports() {
             starts: 2,
             synthetic_samples: 300,
         }),
+        progress: Some(record_progress),
     };
     let report = run(&opts).unwrap();
+    // One line per check group, in order, each with its time and the elapsed time.
+    let lines = PROGRESS.lock().unwrap().clone();
+    let groups = ["kernels", "NIST", "MGH", "BRDF hostile", "diagnostics"];
+    assert_eq!(lines.len(), groups.len(), "{lines:?}");
+    for (line, group) in lines.iter().zip(groups) {
+        assert!(line.starts_with(&format!("stress: {group}")), "{line}");
+        assert!(line.contains(" s elapsed)"), "{line}");
+    }
     let failed: Vec<String> = report
         .failures()
         .iter()

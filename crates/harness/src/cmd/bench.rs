@@ -58,6 +58,43 @@ struct BenchReport {
     searches: Vec<SearchRow>,
     seeds: u64,
     cutoff_cpu_seconds: f64,
+    /// Load averages (1, 5, 15 minutes) from /proc/loadavg before and after the measurements
+    /// (`None` where it cannot be read).
+    load_before: Option<[f64; 3]>,
+    load_after: Option<[f64; 3]>,
+    /// CPUs the load is shared among.
+    cores: usize,
+    /// Warnings that other work loaded the machine while it measured.
+    load_warnings: Vec<String>,
+}
+
+/// Other work above this many runnable threads per core (the 1-minute load average minus the
+/// bench's own thread) makes the timings suspect: they share cores with it.
+const LOAD_PER_CORE_LIMIT: f64 = 0.5;
+
+/// The three load averages of /proc/loadavg's text (`0.52 0.58 0.59 1/467 12345`).
+fn parse_loadavg(text: &str) -> Option<[f64; 3]> {
+    let mut it = text.split_whitespace().map(|w| w.parse::<f64>().ok());
+    let v = [it.next()??, it.next()??, it.next()??];
+    v.iter().all(|x| x.is_finite() && *x >= 0.0).then_some(v)
+}
+
+fn load_average() -> Option<[f64; 3]> {
+    parse_loadavg(&std::fs::read_to_string("/proc/loadavg").ok()?)
+}
+
+/// A warning when the 1-minute load, less the bench's own thread, exceeds
+/// [`LOAD_PER_CORE_LIMIT`] per core.
+fn load_warning(when: &str, load: Option<[f64; 3]>, cores: usize) -> Option<String> {
+    let one = load?[0];
+    let other = (one - 1.0).max(0.0) / cores.max(1) as f64;
+    (other > LOAD_PER_CORE_LIMIT).then(|| {
+        format!(
+            "warning: the machine was loaded {when} the measurements (1-minute load {one:.2} on \
+             {cores} core(s): {other:.2} other runnable threads per core, above \
+             {LOAD_PER_CORE_LIMIT}); the timings may be slow"
+        )
+    })
 }
 
 /// `brdf-sls bench`.
@@ -75,6 +112,14 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join("bench"));
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let load_before = load_average();
+    let mut load_warnings: Vec<String> = load_warning("before", load_before, cores)
+        .into_iter()
+        .collect();
+    for w in &load_warnings {
+        note!("{w}");
+    }
     note!("measuring the arithmetic peak of one core ...");
     let peak = peak_gflops();
     note!("measuring the kernels ...");
@@ -85,6 +130,11 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         a.cutoff
     );
     let searches = search_rows(a.seeds, a.cutoff, a.progress)?;
+    let load_after = load_average();
+    if let Some(w) = load_warning("after", load_after, cores) {
+        note!("{w}");
+        load_warnings.push(w);
+    }
     let report = BenchReport {
         program_version: harness::PROGRAM_VERSION.to_string(),
         cpu: harness::machine::MachineInfo::current(1).cpu_model,
@@ -94,6 +144,10 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         searches,
         seeds: a.seeds,
         cutoff_cpu_seconds: a.cutoff,
+        load_before,
+        load_after,
+        cores,
+        load_warnings,
     };
     let md = markdown(&report);
     harness::store::write_atomic(&out.join("bench.md"), md.as_bytes())
@@ -323,6 +377,21 @@ fn markdown(r: &BenchReport) -> String {
             opt(x.median_evaluations_computed, 0)
         ));
     }
+    let load = |l: Option<[f64; 3]>| {
+        l.map_or_else(
+            || "unknown".to_string(),
+            |l| format!("{:.2} {:.2} {:.2}", l[0], l[1], l[2]),
+        )
+    };
+    s.push_str(&format!(
+        "\nLoad average (1, 5, 15 minutes) on {} core(s): {} before, {} after.\n",
+        r.cores,
+        load(r.load_before),
+        load(r.load_after)
+    ));
+    for w in &r.load_warnings {
+        s.push_str(&format!("\n**{w}**\n"));
+    }
     s
 }
 
@@ -461,6 +530,10 @@ mod tests {
                 .collect(),
             seeds: 1,
             cutoff_cpu_seconds: 0.5,
+            load_before: Some([0.5, 0.4, 0.3]),
+            load_after: Some([3.0, 1.0, 0.5]),
+            cores: 2,
+            load_warnings: vec!["load <high>".into()],
         };
         let machine = harness::machine::MachineInfo::current(1);
         let html = page(&r, &machine, 0);
@@ -476,5 +549,28 @@ mod tests {
             assert!(html.contains(&row), "no row {row}");
         }
         assert_eq!(html.matches("<span class=\"fail\">0/1</span>").count(), 2);
+    }
+
+    #[test]
+    fn loadavg_is_parsed_and_bad_text_refused() {
+        assert_eq!(
+            parse_loadavg("0.52 0.58 0.59 1/467 12345\n"),
+            Some([0.52, 0.58, 0.59])
+        );
+        assert_eq!(parse_loadavg("0.52 x 0.59"), None);
+        assert_eq!(parse_loadavg("0.5"), None);
+    }
+
+    #[test]
+    fn only_load_beyond_the_bench_itself_warns() {
+        // The bench's own thread on 2 cores: no warning.
+        assert_eq!(load_warning("before", Some([1.0, 1.0, 1.0]), 2), None);
+        // Load 2.0 on 2 cores is the bench plus 0.5 other threads per core: at the limit, no
+        // warning; above it, a warning.
+        assert_eq!(load_warning("before", Some([2.0, 0.0, 0.0]), 2), None);
+        let w = load_warning("after", Some([8.0, 0.0, 0.0]), 2).unwrap();
+        assert!(w.contains("after") && w.contains("3.50"), "{w}");
+        assert!(w.contains("8.00 on 2 core(s)"), "{w}");
+        assert_eq!(load_warning("after", None, 2), None);
     }
 }

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use harness::fit::{FitProgress, FitRequest, algorithm_config, check_budget, model_spec};
+use harness::fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
 use harness::progress::ProgressMode;
 
 use super::shared::load_non_empty;
@@ -13,7 +13,7 @@ use crate::cli::FitArgs;
 
 /// `brdf-sls fit`.
 pub fn fit(a: FitArgs) -> Result<()> {
-    check_budget(a.cpu_seconds, a.target)?;
+    check_budget(Surface::Cli, a.cpu_seconds, a.target)?;
     if a.bootstrap > harness::spec::limits::MAX_BOOTSTRAP {
         return Err(input_error(format!(
             "--bootstrap {}: at most {}",
@@ -21,9 +21,15 @@ pub fn fit(a: FitArgs) -> Result<()> {
             harness::spec::limits::MAX_BOOTSTRAP
         )));
     }
-    let algorithm = algorithm_config(&a.algorithm, a.set.iter().cloned())?;
+    let algorithm = algorithm_config(Surface::Cli, &a.algorithm, a.set.iter().cloned())?;
     let m = &a.model;
-    let model = model_spec(m.lobes, m.kind, m.exponent, m.fixed.iter().cloned())?;
+    let model = model_spec(
+        Surface::Cli,
+        m.lobes,
+        m.kind,
+        m.exponent,
+        m.fixed.iter().cloned(),
+    )?;
     let (data, _) = load_non_empty(&a.data)?;
     let data = Arc::new(data);
     let request = FitRequest {
@@ -36,6 +42,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         descent: a.descent,
         polish: !a.no_polish,
         progress: fit_progress(a.progress),
+        surface: Surface::Cli,
     };
     let fit = harness::fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);

@@ -131,9 +131,8 @@ pub fn merge(a: MergeArgs) -> Result<()> {
     .context("writing statistics and plots")?;
     say!("{}", report.table);
     say!(
-        "wrote {} files to {} (statistics: stats.csv, tests.csv; plots: plots/)",
-        report.files.len(),
-        a.out.display()
+        "{}",
+        super::written_summary(report.files.len(), &a.out, !a.no_plots, false)
     );
     Ok(())
 }

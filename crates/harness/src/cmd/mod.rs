@@ -72,12 +72,33 @@ pub fn message(e: &anyhow::Error) -> String {
         if out.contains(&text) {
             continue;
         }
+        // A cause that begins with what its parent ended with ("reading X" then "X: not
+        // found") names the path once: the repeated head is dropped.
+        let text = text
+            .match_indices(": ")
+            .map(|(i, _)| i)
+            .find(|&i| i > 0 && out.ends_with(&text[..i]))
+            .map_or(text.as_str(), |i| &text[i + 2..]);
         if !out.is_empty() {
             out.push_str(": ");
         }
-        out.push_str(&text);
+        out.push_str(text);
     }
     out
+}
+
+/// The last line of `run` and `merge`: how many files went where, naming plots/ (and the
+/// report page) only when they were drawn.
+pub fn written_summary(files: usize, out: &std::path::Path, plots: bool, page: bool) -> String {
+    format!(
+        "wrote {files} files to {} (statistics: stats.csv, tests.csv{})",
+        out.display(),
+        match (plots, page) {
+            (true, true) => "; plots: plots/; page: report.html",
+            (true, false) => "; plots: plots/",
+            _ => "",
+        }
+    )
 }
 
 /// True when the error (or one of its causes) is a closed pipe on our output.
@@ -189,6 +210,36 @@ mod tests {
         assert_eq!(
             message(&e),
             "running experiment `default`: runs/x/trials.jsonl: No space left on device"
+        );
+    }
+
+    #[test]
+    fn a_path_that_ends_the_parent_and_starts_the_cause_is_printed_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
+        let store = harness::store::StoreError::Io {
+            path: "runs/x/trials.jsonl".into(),
+            source: io,
+        };
+        let e = anyhow::Error::new(store).context("reading runs/x/trials.jsonl");
+        assert_eq!(
+            message(&e),
+            "reading runs/x/trials.jsonl: No such file or directory"
+        );
+        // A different path is not a repetition.
+        let e = anyhow::anyhow!("b.toml: bad").context("reading a.toml");
+        assert_eq!(message(&e), "reading a.toml: b.toml: bad");
+    }
+
+    #[test]
+    fn the_written_line_names_plots_only_when_drawn() {
+        let out = std::path::Path::new("runs/x");
+        assert_eq!(
+            written_summary(3, out, true, false),
+            "wrote 3 files to runs/x (statistics: stats.csv, tests.csv; plots: plots/)"
+        );
+        assert_eq!(
+            written_summary(3, out, false, false),
+            "wrote 3 files to runs/x (statistics: stats.csv, tests.csv)"
         );
     }
 

@@ -102,12 +102,10 @@ pub fn run(a: RunArgs) -> Result<()> {
         written += 1;
     }
     say!("{}", report.table);
-    let what = if a.no_plots {
-        "statistics: stats.csv, tests.csv"
-    } else {
-        "statistics: stats.csv, tests.csv; plots: plots/; page: report.html"
-    };
-    say!("wrote {written} files to {} ({what})", out.display());
+    say!(
+        "{}",
+        super::written_summary(written, &out, !a.no_plots, !a.no_plots)
+    );
     Ok(())
 }
 

@@ -38,6 +38,7 @@ pub fn stress(a: StressArgs) -> Result<()> {
         seed: a.seed,
         threads: a.threads,
         sizes: None,
+        progress: Some(progress_line),
     };
     let report = brdf_stress::run(&options).context("running the stress test")?;
     report
@@ -67,6 +68,11 @@ pub fn stress(a: StressArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A stress progress line on stderr (a full run takes minutes).
+fn progress_line(line: &str) {
+    note!("{line}");
 }
 
 /// Reads a data file with the default data policy.

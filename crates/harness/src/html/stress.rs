@@ -311,6 +311,7 @@ mod tests {
                 starts: 2,
                 synthetic_samples: 300,
             }),
+            progress: None,
         };
         let mut report = brdf_stress::run(&opts).unwrap();
         // One failed check to see it highlighted.
