@@ -311,28 +311,6 @@ fn fewer_residuals_than_parameters_reach_a_zero_residual() {
     }
 }
 
-/// MGH, unbounded and boxed, from x0 and 10 x0, default options: never a success code on a
-/// wrong answer, every boxed case solved or an honest failure code, and at least the measured
-/// count solved (71 of 78 unbounded; 70 without the second-order correction, 66 before the
-/// secant term entered the scaling).
-#[test]
-fn mgh_collection() {
-    let runs = mgh_run::run_all(&Options::default());
-    let summary = mgh_run::summary(&runs);
-    let table = mgh_run::table(&runs);
-    for r in &runs {
-        assert!(
-            !r.wrong_success(),
-            "success code on a wrong answer: {r:?}\n{table}"
-        );
-    }
-    let solved = runs
-        .iter()
-        .filter(|r| r.bound.is_none() && r.solved)
-        .count();
-    assert!(solved >= 71, "{summary}\n{table}");
-}
-
 /// MGH's Brown and Dennis function (n = 4, m = 20; f* = 0.5 * 85822.2 = 42911.1) is a large
 /// residual problem whose Gauss-Newton diagonal misses most of the curvature in x3 and x4: with
 /// the Jacobian column norms as the scaling the trust region lets the steps zigzag in x3, x4
@@ -371,7 +349,7 @@ fn secant_scaling_solves_brown_and_dennis() {
 /// term in the scaling (both with the second-order correction), and with N2FB's configuration
 /// (without it): at least 71, 65 and 69 of the 78 unbounded runs solved (70, 66 and 69 without
 /// the correction), never with a success code on a wrong unbounded answer (the defaults are
-/// checked by `mgh_collection`).
+/// checked by `mgh_collection` in tests/mgh.rs).
 #[test]
 fn mgh_collection_other_scalings() {
     let gauss_newton = Options::gauss_newton();

@@ -83,9 +83,13 @@ impl Descent<'_> {
         // convergence; without it, a large-residual minimum approached by augmented Newton steps
         // (whose Gauss-Newton NREDUC shrinks only linearly) ended in singular convergence.
         let within = |reduction: f64| reduction > 0.0 && reduction <= emax;
-        let rel = (within(info.nreduc)
-            || (info.nreduc >= 0.0 && within(info.model_nreduc))
-            || (info.nreduc == 0.0 && info.preduc == 0.0))
+        // A free dead column makes the Gauss-Newton model singular, so its NREDUC (zero at a
+        // point where the column vanishes) does not show that f cannot fall: N2FB skips the
+        // test when the Newton step does not exist (DST0 < 0), and so do we in every preset.
+        let rel = !info.dead_free
+            && (within(info.nreduc)
+                || (info.nreduc >= 0.0 && within(info.model_nreduc))
+                || (info.nreduc == 0.0 && info.preduc == 0.0))
             && ws.gradient_permits_rel_conv(opt.tolerances.relative_function);
         // A restored step is not the last one computed (NL2SOL's GOODX = false).
         let xconv = info.newton && a.accepted && !trial.restored && trial.reldx <= opt.tolerances.x;

@@ -83,8 +83,9 @@ impl Workspace {
             max_scaled = max_scaled.max(self.factors.col_max[j]);
         }
         for j in 0..p {
-            self.factors.dead[j] =
-                hold_dead && !(self.factors.col_max[j] > DEAD_COLUMN * max_scaled);
+            let dead = !(self.factors.col_max[j] > DEAD_COLUMN * max_scaled);
+            self.factors.dead_seen[j] = dead;
+            self.factors.dead[j] = hold_dead && dead;
             self.factors.col_scale[j] = if self.factors.dead[j] {
                 0.0
             } else {
@@ -124,8 +125,9 @@ impl Workspace {
         }
         for j in 0..p {
             // max-abs is within sqrt(m) of the 2-norm; comparing max-abs values is enough here.
-            self.factors.dead[j] =
-                hold_dead && !(self.factors.col_max[j] > DEAD_COLUMN * max_scaled);
+            let dead = !(self.factors.col_max[j] > DEAD_COLUMN * max_scaled);
+            self.factors.dead_seen[j] = dead;
+            self.factors.dead[j] = hold_dead && dead;
             if self.factors.dead[j] {
                 self.factors.qr[j * m..(j + 1) * m].fill(0.0);
             }

@@ -97,7 +97,7 @@ impl Workspace {
             let at_hi = self.x[i] >= self.hi[i];
             let bound =
                 (at_lo && self.g[i] >= 0.0) || (at_hi && self.g[i] <= 0.0) || (at_lo && at_hi);
-            dead_free |= self.factors.dead[i] && !bound;
+            dead_free |= self.factors.dead_seen[i] && !bound;
             self.fixed[i] = bound || self.factors.dead[i];
             self.step[i] = 0.0;
         }
@@ -342,8 +342,12 @@ impl Workspace {
         let (pred, _) = self.predicted(augmented);
         info.preduc = pred;
         info.dnorm = self.scaled_norm_step();
-        if dead_free {
-            info.dead_free = true;
+        // A free dead column makes the model singular in every preset (`dead_free` bars the
+        // success codes). Only when such columns are held is NREDUC that of another problem
+        // (the held variables' model) and dropped; left free, the step and its radius update
+        // keep the factorization's numbers.
+        info.dead_free = dead_free;
+        if dead_free && self.factors.dead[..p].iter().any(|&d| d) {
             info.nreduc = -1.0;
             info.model_nreduc = -1.0;
             info.newton_norm = -1.0;

@@ -58,9 +58,14 @@ pub(super) struct Factorisation {
     /// `D^-1` with 0 for dead columns (tall Jacobians) and the tall QR's row block.
     pub(super) col_scale: Vec<f64>,
     pub(super) scratch: Vec<f64>,
-    /// Max-abs entry of each scaled column, and which columns are numerically dead.
+    /// Max-abs entry of each scaled column, and which columns are numerically dead and held
+    /// (`dead`, only with `Safeguards::hold_dead_columns`).
     pub(super) col_max: Vec<f64>,
     pub(super) dead: Vec<bool>,
+    /// Which columns are numerically dead whether or not they are held: the convergence
+    /// verdict needs it in every preset, because a free dead column makes the Gauss-Newton
+    /// model singular, and a singular model's zero NREDUC does not show a minimum.
+    pub(super) dead_seen: Vec<bool>,
     /// `J^T J` (unscaled).
     pub(super) jtj: Vec<f64>,
 }
@@ -232,6 +237,7 @@ impl Workspace {
         }
         self.fixed.resize(p, false);
         self.factors.dead.resize(p, false);
+        self.factors.dead_seen.resize(p, false);
         self.free.resize(p, 0);
         self.lambda = 0.0;
         self.secant.updates = 0;

@@ -26,6 +26,12 @@ impl MghRun {
     pub fn wrong_success(&self) -> bool {
         self.report.outcome.is_success() && !self.solved
     }
+
+    /// The right answer reported with a success code (3 to 6); a right answer with code 7
+    /// (singular convergence) does not say that it converged to a minimum.
+    pub fn solved_with_success(&self) -> bool {
+        self.solved && self.report.outcome.is_success()
+    }
 }
 
 fn gradient(prob: &mut Mgh, x: &[f64]) -> Vec<f64> {
@@ -151,6 +157,7 @@ pub fn summary(runs: &[MghRun]) -> String {
     let unb: Vec<&MghRun> = runs.iter().filter(|r| r.bound.is_none()).collect();
     let bnd: Vec<&MghRun> = runs.iter().filter(|r| r.bound.is_some()).collect();
     let solved = |v: &[&MghRun]| v.iter().filter(|r| r.solved).count();
+    let solved_success = |v: &[&MghRun]| v.iter().filter(|r| r.solved_with_success()).count();
     let honest = |v: &[&MghRun]| {
         v.iter()
             .filter(|r| r.solved || !r.report.outcome.is_success())
@@ -163,9 +170,11 @@ pub fn summary(runs: &[MghRun]) -> String {
             .sum::<usize>()
     };
     format!(
-        "unbounded: {}/{} solved to a listed minimum, {} success codes on a wrong answer, {} iterations, {} residual evals\n\
+        "unbounded: {}/{} solved to a listed minimum ({}/{} with a success code), {} success codes on a wrong answer, {} iterations, {} residual evals\n\
          boxed: {}/{} solved (KKT), {}/{} solved or an honest failure code, bound active in {}, {} iterations, {} residual evals\n",
         solved(&unb),
+        unb.len(),
+        solved_success(&unb),
         unb.len(),
         unb.len() - honest(&unb),
         its(&unb),
