@@ -239,7 +239,8 @@ fn brdf_sls_threads_sets_the_default_thread_count() {
     let args = ["run", "tiny.toml", "--limit", "1", "--no-plots"];
     let o = brdf_sls(&args, d.path(), &[("BRDF_SLS_THREADS", "3")]);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(text(&o).contains("3 worker thread(s)"), "{}", text(&o));
+    // One trial to run: the pool is capped at it, and the note names the 3 the variable asked for.
+    assert!(text(&o).contains("not the 3 asked for"), "{}", text(&o));
     // The flag wins over the variable.
     let o = brdf_sls(
         &[
