@@ -40,6 +40,12 @@ def test_bad_csv_names_file_and_line(cli, tmp_path):
     assert "bad.csv" in str(e.value) and "3" in str(e.value)
 
 
+def python_words(message: str) -> str:
+    """The command line's message with its arguments named as Python writes them."""
+    message = message.replace("--algorithm/--set", "algorithm/settings")
+    return re.sub(r"--([a-z-]+) (\S+):", lambda m: f"{m[1].replace('-', '_')}={m[2]}:", message)
+
+
 @pytest.mark.parametrize(
     "flags,kwargs",
     [
@@ -52,12 +58,6 @@ def test_bad_csv_names_file_and_line(cli, tmp_path):
         ({"--fix": "lobe3.n=2"}, {"fixed": {"lobe3.n": 2.0}}),
     ],
 )
-def python_words(message: str) -> str:
-    """The command line's message with its arguments named as Python writes them."""
-    message = message.replace("--algorithm/--set", "algorithm/settings")
-    return re.sub(r"--([a-z-]+) (\S+):", lambda m: f"{m[1].replace('-', '_')}={m[2]}:", message)
-
-
 def test_bad_fit_arguments_same_message_as_cli(cli, krylon, flags, kwargs):
     flags = {"--cpu-seconds": "1", **flags}
     p = cli("fit", krylon, *(f"{k}={v}" for k, v in flags.items()), check=False)
