@@ -54,8 +54,8 @@ pub fn fit(
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
     harness::fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
-    let algorithm =
-        harness::fit::algorithm_config(Surface::Python, algorithm, settings(config)?).map_err(input_err)?;
+    let algorithm = harness::fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
+        .map_err(input_err)?;
     let model = harness::fit::model_spec(
         Surface::Python,
         lobes,
