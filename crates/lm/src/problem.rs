@@ -13,10 +13,12 @@ pub trait Problem {
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool;
     /// Column-major Jacobian at `x` into `jac` (length `m * p`). Return `false` on failure.
     fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool;
-    /// Asked once per iteration, before the Jacobian is evaluated: return `true` to end the
-    /// solve with [`crate::Outcome::Interrupted`] (code 11, NL2SOL's STOPX), `x` holding the
-    /// last accepted point. The hook for a caller's clock (a CPU-time cutoff inside a long
-    /// descent); keep it cheap. The default never stops.
+    /// Asked once per iteration, before the Jacobian is evaluated, after a failed evaluation,
+    /// and during a step's computation once per million flops of factorizations (models of
+    /// more than about 100 free variables): return `true` to end the solve with
+    /// [`crate::Outcome::Interrupted`] (code 11, NL2SOL's STOPX), `x` holding the last accepted
+    /// point. The hook for a caller's clock (a CPU-time cutoff inside a long descent); keep it
+    /// cheap. The default never stops.
     fn should_stop(&mut self) -> bool {
         false
     }

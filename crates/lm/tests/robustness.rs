@@ -197,6 +197,97 @@ fn should_stop_interrupts_between_iterations() {
     assert_eq!(prob.calls, rep.iterations);
 }
 
+/// A linear least-squares problem with `p` parameters (`r = A x - b`, `A` a dense,
+/// well-conditioned `2p x p` matrix) whose stop hook counts its calls and says stop from the
+/// call numbered `stop_at` on.
+struct LargeLinear {
+    p: usize,
+    a: Vec<f64>,
+    calls: usize,
+    stop_at: usize,
+}
+impl LargeLinear {
+    fn new(p: usize, stop_at: usize) -> Self {
+        let m = 2 * p;
+        // Column-major; a dominant diagonal keeps it well conditioned.
+        let a = (0..m * p)
+            .map(|k| {
+                let (i, j) = (k % m, k / m);
+                if i == j {
+                    4.0
+                } else {
+                    ((i * 7 + j * 13) % 11) as f64 / 50.0
+                }
+            })
+            .collect();
+        Self {
+            p,
+            a,
+            calls: 0,
+            stop_at,
+        }
+    }
+}
+impl Problem for LargeLinear {
+    fn residual_count(&self) -> usize {
+        2 * self.p
+    }
+    fn parameter_count(&self) -> usize {
+        self.p
+    }
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
+        let m = 2 * self.p;
+        for (i, ri) in r.iter_mut().enumerate() {
+            *ri = (0..self.p).map(|j| self.a[j * m + i] * x[j]).sum::<f64>() - 1.0;
+        }
+        true
+    }
+    fn jacobian(&mut self, _x: &[f64], j: &mut [f64]) -> bool {
+        j.copy_from_slice(&self.a);
+        true
+    }
+    fn should_stop(&mut self) -> bool {
+        self.calls += 1;
+        self.calls >= self.stop_at
+    }
+}
+
+/// A large model asks the stop hook while it computes a step (a trust-region solve of 200 free
+/// variables is millions of flops), so a CPU cutoff is noticed before the step's evaluation; a
+/// small model asks only once per iteration, so its steps pay nothing for it.
+#[test]
+fn a_large_model_asks_the_stop_hook_during_the_step() {
+    let solve = |prob: &mut LargeLinear| {
+        let p = prob.p;
+        let mut x = vec![100.0; p];
+        let (lo, hi) = (vec![-1e3; p], vec![1e3; p]);
+        Solver::new()
+            .solve(prob, &mut x, &lo, &hi, &Options::default())
+            .unwrap()
+    };
+    // The first question comes before the first Jacobian; the second, inside the first step.
+    let mut large = LargeLinear::new(200, 2);
+    let rep = solve(&mut large);
+    assert_eq!(rep.outcome, Outcome::Interrupted, "{rep:?}");
+    assert_eq!(
+        rep.residual_evaluations, 1,
+        "stopped before evaluating the first step"
+    );
+    // Never stopping: the questions inside steps change nothing of the solution.
+    let mut large = LargeLinear::new(200, usize::MAX);
+    let rep = solve(&mut large);
+    assert!(rep.outcome.is_success(), "{rep:?}");
+    assert!(
+        large.calls > rep.iterations,
+        "asked during steps too: {} calls",
+        large.calls
+    );
+    let mut small = LargeLinear::new(5, usize::MAX);
+    let rep = solve(&mut small);
+    assert!(rep.outcome.is_success(), "{rep:?}");
+    assert_eq!(small.calls, rep.iterations, "asked once per iteration only");
+}
+
 /// Rosenbrock whose budget runs out after `budget` residual evaluations: from then on every
 /// evaluation fails and the stop hook says stop, as the search layer's trial context does when
 /// its CPU cutoff passes in the middle of an iteration.

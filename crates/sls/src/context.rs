@@ -171,7 +171,8 @@ impl<O: Objective> Problem for Fit<'_, O> {
         self.meter.charge(Kind::Jacobian, self.rows).is_ok()
             && self.objective.jacobian(self.work, x, jac)
     }
-    /// Asked by the solver once per iteration: polls the clock like every charge.
+    /// Asked by the solver once per iteration and during long step computations: polls the
+    /// clock like every charge.
     fn should_stop(&mut self) -> bool {
         self.meter.poll_clock().is_err()
     }

@@ -134,14 +134,11 @@ fn cpu_cutoff_holds_with_fifty_lobes_in_aed() {
 }
 
 /// RPLS at 50 lobes (251 parameters, full-data descents on 2000 samples), with AED's bound.
-/// Fails today: seed 5 ends at 0.62 to 0.65 s (12.4x to 13.1x the cutoff). The time is not the
-/// Jacobian (under 1 ms) nor its QR (under 1% of a profile): it is the trust-region
-/// subproblem of one solver iteration, up to 60 shifted solves of the 251 x 251 triangular
-/// system (`LeastSquaresModel::shifted`, 54% of the test's CPU in `perf`) between the Jacobian
-/// and the trial point's residuals, where the solver never asks `Problem::should_stop`.
-/// Passing needs crates/lm to ask it inside that search (or bound the search's cost).
+/// The longest stretch without a clock read here is one solver step's trust-region subproblem,
+/// up to 60 shifted solves of the 251 x 251 triangular system per active-set pass; the solver
+/// asks `Problem::should_stop` during it (once per million flops), without which seed 5 ended
+/// at 12 to 13 times the cutoff.
 #[test]
-#[ignore = "needs crates/lm to poll Problem::should_stop inside the trust-region subproblem"]
 fn cpu_cutoff_holds_with_fifty_lobes_in_rpls() {
     check_within(50, &["rpls"], 8, Some(0.05 + 0.35));
 }

@@ -2,9 +2,10 @@
 //! convergence and stopping tests after it.
 
 use super::descent::{Descent, Trial};
+use super::subproblem::StopPoll;
 use super::workspace::Workspace;
-use crate::Outcome;
 use crate::linalg::dot;
+use crate::{Outcome, Problem};
 
 /// A step is accepted when the actual reduction exceeds this fraction of the predicted one.
 pub(super) const ACCEPT_RATIO: f64 = 1e-4;
@@ -62,9 +63,10 @@ impl Descent<'_> {
 
     /// NL2SOL's convergence tests after a step, run only when the model is trusted (actual
     /// reduction at most twice PREDUC): X-, relative function and singular convergence.
-    pub(super) fn convergence_test(
+    pub(super) fn convergence_test<P: Problem>(
         &self,
         ws: &mut Workspace,
+        problem: &mut P,
         trial: &Trial,
         a: &Assessment,
     ) -> Option<Outcome> {
@@ -114,12 +116,18 @@ impl Descent<'_> {
                 return Some(Outcome::SingularConvergence);
             }
             // Re-solve at the test radius from x0 without evaluating f.
-            if ws.singular_test_reduction(
+            let mut ask = || problem.should_stop();
+            let mut poll = StopPoll::new(&mut ask);
+            let reduction = ws.singular_test_reduction(
                 test_radius,
                 self.model.augmented,
                 opt.safeguards.stop_at_minimum_norm_step,
-            ) <= emaxs
-            {
+                &mut poll,
+            );
+            if poll.stopped() {
+                return Some(Outcome::Interrupted);
+            }
+            if reduction <= emaxs {
                 return Some(Outcome::SingularConvergence);
             }
         }
@@ -167,15 +175,17 @@ impl Workspace {
 
     /// The singular-convergence test step (N2FB): PREDUC of the step re-solved at `radius`
     /// (LMAXS) from the same point without evaluating f; the trial step and lambda are kept.
+    /// Meaningless when `poll` says stop.
     pub(super) fn singular_test_reduction(
         &mut self,
         radius: f64,
         augmented: bool,
         stop_at_min_norm: bool,
+        poll: &mut StopPoll<'_>,
     ) -> f64 {
         std::mem::swap(&mut self.step, &mut self.singular_step);
         let saved_lambda = self.lambda;
-        let alt = self.compute_step(radius, augmented, stop_at_min_norm);
+        let alt = self.compute_step(radius, augmented, stop_at_min_norm, poll);
         self.lambda = saved_lambda;
         std::mem::swap(&mut self.step, &mut self.singular_step);
         alt.preduc

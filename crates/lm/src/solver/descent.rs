@@ -5,6 +5,7 @@
 use super::assessment::Assessment;
 use super::radius::{RadiusChange, TrustRadius};
 use super::step::StepInfo;
+use super::subproblem::StopPoll;
 use super::workspace::Workspace;
 use crate::linalg::{dot, jt_vec, sym_mat_vec};
 use crate::{
@@ -264,11 +265,17 @@ impl<'o> Descent<'o> {
     ) -> TrialResult {
         let p = ws.p;
         let opt = self.opt;
+        let mut ask = || problem.should_stop();
+        let mut poll = StopPoll::new(&mut ask);
         let info = ws.compute_step(
             self.radius.radius,
             self.model.augmented,
             opt.safeguards.stop_at_minimum_norm_step,
+            &mut poll,
         );
+        if poll.stopped() {
+            return TrialResult::Stop(Outcome::Interrupted);
+        }
         if let Some(good) = self.good {
             // DG7ITB: the longer step is evaluated only if it predicts more than 1.2 times the
             // reduction the saved step achieved (and the budget allows); otherwise the saved

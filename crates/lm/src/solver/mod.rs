@@ -144,7 +144,7 @@ fn iterate<P: Problem>(
         let change = descent
             .radius
             .after_step(&trial, &assessment, gts, descent.model.switching);
-        let converged = descent.convergence_test(ws, &trial, &assessment);
+        let converged = descent.convergence_test(ws, problem, &trial, &assessment);
         if change.try_longer && converged.is_none() {
             descent.keep_good(ws, &trial);
             descent.radius.try_longer(change.factor, trial.info.dnorm);

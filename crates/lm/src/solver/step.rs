@@ -3,7 +3,7 @@
 
 use super::factorisation::{triangle_of_qr, triangular_full_rank};
 use super::model::{LeastSquaresModel, QuadraticModel, WideLeastSquaresModel};
-use super::subproblem::{TrResult, trust_region};
+use super::subproblem::{StopPoll, TrResult, trust_region};
 use super::workspace::Workspace;
 use crate::linalg::{dot, shifted_scratch_len, sym_mat_vec};
 use crate::qr::householder_qr;
@@ -216,12 +216,14 @@ impl Workspace {
         radius: f64,
         augmented: bool,
         stop_at_min_norm: bool,
+        poll: &mut StopPoll<'_>,
     ) -> TrResult {
         if augmented {
             self.build_quadratic_model(n);
         }
         let lambda = self.lambda;
-        let (z, best, q) = (&mut self.sub.z[..n], &mut self.sub.best, &mut self.sub.q);
+        let z = &mut self.sub.z[..n];
+        let scratch = (&mut self.sub.best[..], &mut self.sub.q[..]);
         if augmented {
             let mut sub = QuadraticModel {
                 n,
@@ -229,7 +231,7 @@ impl Workspace {
                 g: &self.sub.g[..n],
                 chol: &mut self.sub.chol[..n * n],
             };
-            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, poll, z, scratch)
         } else if self.m < n {
             let k = self.m;
             let mut sub = WideLeastSquaresModel {
@@ -243,7 +245,7 @@ impl Workspace {
                 v: &mut self.sub.v[..k],
             }
             .with_gram();
-            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, poll, z, scratch)
         } else {
             let mut sub = LeastSquaresModel {
                 n,
@@ -253,7 +255,7 @@ impl Workspace {
                 u_lambda: &mut self.sub.u_lambda[..n],
                 row: &mut self.sub.row[..shifted_scratch_len(n)],
             };
-            trust_region(&mut sub, radius, lambda, stop_at_min_norm, z, best, q)
+            trust_region(&mut sub, radius, lambda, stop_at_min_norm, poll, z, scratch)
         }
     }
 
@@ -263,11 +265,13 @@ impl Workspace {
     /// trust-region subproblem is solved on the free variables; when the step leaves the box it is
     /// cut where it first reaches a bound, that variable is held there, and the rest of the step
     /// is re-solved from the cut point (model gradient `g + H s`, remaining radius).
+    /// When `poll` says stop, the step is unfinished: the caller checks [`StopPoll::stopped`].
     pub(super) fn compute_step(
         &mut self,
         radius: f64,
         augmented: bool,
         stop_at_min_norm: bool,
+        poll: &mut StopPoll<'_>,
     ) -> StepInfo {
         let p = self.p;
         let dead_free = self.hold_active_bounds();
@@ -291,7 +295,10 @@ impl Workspace {
                     nreduc_gn = 0.5 * dot(&self.sub.u[..n], &self.sub.u[..n]);
                 }
             }
-            let tr = self.solve_subproblem(n, remaining, augmented, stop_at_min_norm);
+            let tr = self.solve_subproblem(n, remaining, augmented, stop_at_min_norm, poll);
+            if poll.stopped() {
+                return info;
+            }
             self.lambda = tr.lambda;
             if first {
                 info.nreduc = if augmented {
