@@ -153,6 +153,11 @@ pub fn write_report(
     let planned = spec.trials_plan().len();
     let mut warnings = crate::best_known::warnings(spec);
     warnings.extend(crate::best_known::below_best_known(spec, &owned));
+    // `stats` writes no plots: the summary still lists those an earlier run drew.
+    let mut listed = files.clone();
+    if !plots {
+        listed.extend(plots_listed_before(out));
+    }
     let summary = serde_json::json!({
         "experiment": spec.name,
         "description": spec.description,
@@ -166,7 +171,7 @@ pub fn write_report(
         "instances": spec.instance_names(),
         "best_known": spec.best_known(),
         "warnings": warnings,
-        "files": files.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
+        "files": listed.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
     });
     let summary_path = out.join("summary.json");
     let summary = to_json(&summary_path, &summary)?;
@@ -176,6 +181,25 @@ pub fn write_report(
         table,
         files,
     })
+}
+
+/// The plot files the folder's summary.json lists that are still on disk (none when it is
+/// missing or unreadable: the summary is then rewritten without them).
+fn plots_listed_before(out: &Path) -> Vec<PathBuf> {
+    let Ok(text) = std::fs::read_to_string(out.join("summary.json")) else {
+        return Vec::new();
+    };
+    let Ok(summary) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Vec::new();
+    };
+    let listed = summary["files"].as_array().map_or(&[][..], Vec::as_slice);
+    listed
+        .iter()
+        .filter_map(serde_json::Value::as_str)
+        .filter(|f| f.starts_with("plots/"))
+        .map(|f| out.join(f))
+        .filter(|f| f.is_file())
+        .collect()
 }
 
 /// The statistics table followed by each instance's best-known RMSE (with every target

@@ -64,6 +64,14 @@ fn check_run_plot_stats() {
     assert!(dir.path().join("runs/tiny/plots/tuning-trace.png").exists());
     let o = brdf_sls(&["stats", "tiny.toml"], dir.path());
     assert!(o.status.success(), "{}", text(&o));
+    // `stats` writes no plots, but the summary still lists those `plot` drew.
+    let summary = std::fs::read_to_string(dir.path().join("runs/tiny/summary.json")).unwrap();
+    assert!(summary.contains("plots/tuning-trace.png"), "{summary}");
+    // A folder that does not exist is bad input named as such.
+    let o = brdf_sls(&["stats", "no-such-folder"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("no-such-folder: no such file or folder"), "{t}");
 
     // A changed spec is refused with advice.
     std::fs::write(&spec, common::TINY.replace("seed = 11", "seed = 99")).unwrap();

@@ -17,6 +17,13 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         ));
     }
     let target = a.target.clone().unwrap_or_else(|| default_out(None));
+    if !target.exists() {
+        return Err(input_error(format!(
+            "{}: no such file or folder (expected a results folder, a file in one, or the \
+             spec .toml that wrote it)",
+            target.display()
+        )));
+    }
     let is_spec = target.extension().is_some_and(|e| e == "toml");
     let (spec, dir) = if is_spec {
         let spec = load_spec(&target)?;
