@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The out-of-tree algorithm example (examples/custom-algorithm/, not a workspace member): lints
 # and builds it from its own manifest and lock file, runs its tiny spec into a temporary folder,
-# checks that trials.jsonl holds the custom kind's trials and that the statistics name it, then
-# runs the spec again and checks that it resumed every trial and ran none. Called by .ci/run.
+# checks that trials.jsonl holds the custom kind's trials and that the statistics name it,
+# runs the spec again and checks that it resumed every trial and ran none, then runs it as two
+# shards, merges them and writes their statistics and report with the same program. Called by .ci/run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,7 +27,7 @@ out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 
 section "the tiny spec"
-"$bin" examples/custom-algorithm/tiny.toml --out "$out/tiny" --threads 2 | tee "$out/first.txt"
+"$bin" run examples/custom-algorithm/tiny.toml --out "$out/tiny" --threads 2 2>&1 | tee "$out/first.txt"
 trials="$out/tiny/trials.jsonl"
 test -s "$trials" || fail "$trials is missing or empty"
 grep -q '"kind":"coordinate-search"' "$trials" \
@@ -40,6 +41,21 @@ grep -q 'COORDINATE-SEARCH' "$out/tiny/table.txt" || fail "table.txt does not na
 echo "trials.jsonl holds $custom COORDINATE-SEARCH trials; the statistics name it"
 
 section "running it again resumes"
-"$bin" examples/custom-algorithm/tiny.toml --out "$out/tiny" --threads 2 | tee "$out/second.txt"
+"$bin" run examples/custom-algorithm/tiny.toml --out "$out/tiny" --threads 2 2>&1 | tee "$out/second.txt"
 grep -q '^0 new trials' "$out/second.txt" || fail "the second run ran new trials"
 echo "resumed with 0 new trials"
+
+section "the rest of the command line knows the kind: shards, merge, stats, report"
+for k in 1 2; do
+    "$bin" run examples/custom-algorithm/tiny.toml --out "$out/shard-$k" --shard "$k/2" \
+        --threads 2 --no-plots > /dev/null
+done
+"$bin" merge "$out/merged" "$out/shard-1" "$out/shard-2" > /dev/null
+merged=$(grep -c '"config":"COORDINATE-SEARCH"' "$out/merged/trials.jsonl" || true)
+[[ "$merged" -eq "$planned" ]] \
+    || fail "the merged shards hold $merged COORDINATE-SEARCH trials, expected $planned"
+"$bin" stats "$out/merged" --print-only | grep -q 'COORDINATE-SEARCH' \
+    || fail "stats of the merged folder does not name COORDINATE-SEARCH"
+"$bin" report "$out/merged" > /dev/null
+grep -q 'COORDINATE-SEARCH' "$out/merged/report.html" || fail "report.html does not name it"
+echo "two shards merged into $merged COORDINATE-SEARCH trials; stats and report name them"

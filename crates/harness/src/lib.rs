@@ -1,8 +1,9 @@
 //! The brdf-sls experiment harness: TOML experiment specs, parallel seeded trials, a
 //! crash-safe results store, run-time distribution statistics and plots.
 //!
-//! The command line (`src/main.rs`, `src/cli/`, `src/cmd/`; built with the default `cli`
-//! feature, the only user of clap) is a thin layer over this library.
+//! The command line ([`cli_main`]: `src/cli/` declares the flags, `src/cmd/` runs the
+//! commands; built with the default `cli` feature, the only user of clap) is a thin layer over
+//! this library. `src/main.rs`, the `brdf-sls` binary, only calls it.
 //!
 //! - [`spec`]: experiment specs (the format: `docs/experiment-format.md`) read in stages: the
 //!   TOML as parsed, validation with stated [`spec::limits`], sweep expansion, the resolved
@@ -84,6 +85,30 @@ pub mod stress_charts;
 pub mod threads;
 pub mod trial_key;
 pub mod tune;
+
+#[cfg(feature = "cli")]
+mod cli;
+#[cfg(feature = "cli")]
+mod cmd;
+
+/// The whole `brdf-sls` command line (every command, flag, message and exit status): parses
+/// the process's arguments, runs the command and returns its exit status (0 success or a
+/// closed output pipe, 2 bad input, 1 a failure while running).
+///
+/// A crate with algorithms of its own registers them, then hands over, and gets every
+/// command (`run`, `check`, `stats`, `plot`, `report`, `compare`, `merge`, `slurm`, `tune`,
+/// ...) with its kinds known, in a program of its own:
+///
+/// ```no_run
+/// fn main() -> std::process::ExitCode {
+///     // sls::registry::register::<MyAlgorithm>().expect("a kind of its own");
+///     harness::cli_main()
+/// }
+/// ```
+#[cfg(feature = "cli")]
+pub fn cli_main() -> std::process::ExitCode {
+    cmd::main()
+}
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,6 @@
-//! A search algorithm defined outside the brdf-sls workspace, and the few calls that benchmark
-//! it with the brdf-sls harness exactly like a built-in algorithm.
+//! A search algorithm defined outside the brdf-sls workspace, registered so that the brdf-sls
+//! harness benchmarks it exactly like a built-in algorithm (`src/main.rs` is the whole
+//! command line with it).
 //!
 //! [`CoordinateSearch`] is a compass search: from a random start it tries a step up and down
 //! each coordinate, keeps the first move that lowers the full-data RMSE, halves the step when
@@ -8,12 +9,6 @@
 //! [`sls::Search`], so the harness counts sample-evaluations, enforces the budget, stops at the
 //! target and records the anytime trace.
 
-use std::path::Path;
-
-use anyhow::Context;
-use harness::run::{RunOptions, SlsExecutor, default_threads, run_shard};
-use harness::shard::Shard;
-use harness::spec::Spec;
 use serde::{Deserialize, Serialize};
 use sls::registry::{self, Algorithm, RegistryError};
 use sls::{ConfigError, DescentLimits, Rows, Search, Stop};
@@ -133,60 +128,4 @@ fn try_coordinate(
 /// experiment that uses the kind.
 pub fn register() -> Result<(), RegistryError> {
     registry::register::<CoordinateSearch>()
-}
-
-/// What [`run_spec`] did.
-#[derive(Debug)]
-pub struct RunSummary {
-    /// Trials run in this session.
-    pub new_trials: usize,
-    /// Trials found already finished in the results folder.
-    pub resumed: usize,
-    /// The statistics table (as `brdf-sls run` prints it).
-    pub table: String,
-    /// Files written (statistics, tables, plots).
-    pub files: usize,
-}
-
-/// Why [`run_spec`] failed: a bad spec (the user's input) or a failure while running.
-#[derive(Debug, thiserror::Error)]
-pub enum RunSpecError {
-    /// The spec file could not be read or is invalid; the message names the key and line.
-    #[error(transparent)]
-    Spec(#[from] harness::spec::SpecError),
-    /// Running, storing or reporting failed.
-    #[error(transparent)]
-    Run(#[from] anyhow::Error),
-}
-
-/// Runs (or resumes) the experiment `spec_path` into `out`, then writes its statistics and
-/// plots there: what `brdf-sls run SPEC --out OUT [--shard K/N]` does, with this crate's kinds
-/// registered. `threads`: worker threads (default: the spec's `threads`, else every CPU);
-/// `shard`: only that shard of the trial plan (see `harness::shard`).
-pub fn run_spec(
-    spec_path: &Path,
-    out: &Path,
-    threads: Option<usize>,
-    shard: Option<Shard>,
-) -> Result<RunSummary, RunSpecError> {
-    let mut spec = Spec::from_file(spec_path)?;
-    harness::best_known::resolve_for_run(&mut spec, Some(out))
-        .context("finding the best-known RMSEs")?;
-    let options = RunOptions {
-        threads: threads.or(spec.threads).unwrap_or_else(default_threads),
-        ..RunOptions::default()
-    };
-    let (executor, _) = SlsExecutor::new(&spec, spec.kernel).context("building the instances")?;
-    let outcome = run_shard(&spec, shard, out, &options, &executor)
-        .with_context(|| format!("running experiment `{}`", spec.name))?;
-    let contents = harness::store::read_results(out).context("reading back the results")?;
-    let report =
-        harness::report::write_report(&spec, &outcome.records, &contents.sessions, out, true)
-            .context("writing statistics and plots")?;
-    Ok(RunSummary {
-        new_trials: outcome.new_trials,
-        resumed: outcome.resumed,
-        table: report.table,
-        files: report.files.len(),
-    })
 }

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
+use crate::spec::{DataFormat, FileSpec};
 use clap::Args;
-use harness::spec::{DataFormat, FileSpec};
 
 use super::values::{choice, enum_value};
 

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use harness::tune::CostKind;
+use crate::tune::CostKind;
 
 /// `brdf-sls trial`: one trial, one number on standard output.
 #[derive(clap::Args)]

@@ -18,7 +18,7 @@ pub fn enum_value<T: DeserializeOwned>(s: &str) -> Result<T, String> {
 }
 
 /// A library enum chosen by name from `names` (listed in the help and in the error of any
-/// other value), parsed with its `FromStr`: the clap glue of [`harness::choice`].
+/// other value), parsed with its `FromStr`: the clap glue of [`crate::choice`].
 pub fn choice<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
 where
     T: FromStr + Clone + Send + Sync + 'static,
@@ -70,10 +70,10 @@ pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {
 }
 
 /// A parameter set: a paper name (`tuning`, `cross`, ...), JSON as printed on the `json:` line
-/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`harness::params`] (checked
+/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`crate::params`] (checked
 /// against the model's box).
 pub fn params(s: &str) -> Result<BrdfParams, String> {
-    harness::params::parse_params("--params", harness::params::ParamsInput::Text(s))
+    crate::params::parse_params("--params", crate::params::ParamsInput::Text(s))
         .map(|g| g.params)
         .map_err(|e| e.to_string())
 }
@@ -165,17 +165,17 @@ mod tests {
         assert!("1,2".parse::<Triple>().is_err());
         let cmd =
             clap::Command::new("t").arg(clap::Arg::new("p").long("p").value_parser(choice::<
-                harness::progress::ProgressMode,
+                crate::progress::ProgressMode,
             >(
-                harness::progress::ProgressMode::NAMES,
+                crate::progress::ProgressMode::NAMES,
             )));
         let m = cmd
             .clone()
             .try_get_matches_from(["t", "--p", "plain"])
             .unwrap();
         assert_eq!(
-            m.get_one::<harness::progress::ProgressMode>("p"),
-            Some(&harness::progress::ProgressMode::Plain)
+            m.get_one::<crate::progress::ProgressMode>("p"),
+            Some(&crate::progress::ProgressMode::Plain)
         );
         let e = cmd.try_get_matches_from(["t", "--p", "loud"]).unwrap_err();
         assert!(

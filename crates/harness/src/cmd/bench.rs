@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use super::{bail_input, note, say};
 use crate::cli::BenchArgs;
-use harness::progress::{Progress, ProgressMode};
+use crate::progress::{Progress, ProgressMode};
 
 /// Floating-point operations of one lobe-sample of values, counted in the generic loop: the
 /// rotated dot product (4 multiplies, 3 adds), the clamp, `ln d` and `exp(n ln d)` (about 16
@@ -111,7 +111,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     let out = a
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join("bench"));
+        .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RUNS_DIR).join("bench"));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let load_before = load_average();
     let mut load_warnings: Vec<String> = load_warning("before", load_before, cores)
@@ -136,8 +136,8 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         load_warnings.push(w);
     }
     let report = BenchReport {
-        program_version: harness::PROGRAM_VERSION.to_string(),
-        cpu: harness::machine::MachineInfo::current(1).cpu_model,
+        program_version: crate::PROGRAM_VERSION.to_string(),
+        cpu: crate::machine::MachineInfo::current(1).cpu_model,
         peak_gflops_per_core: peak,
         flops_per_value: FLOPS_PER_VALUE,
         kernels,
@@ -150,14 +150,14 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         load_warnings,
     };
     let md = markdown(&report);
-    harness::store::write_atomic(&out.join("bench.md"), md.as_bytes())
+    crate::store::write_atomic(&out.join("bench.md"), md.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.md").display()))?;
     let json = serde_json::to_string_pretty(&report).context("serialising the report")?;
-    harness::store::write_atomic(&out.join("bench.json"), json.as_bytes())
+    crate::store::write_atomic(&out.join("bench.json"), json.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.json").display()))?;
-    let machine = harness::machine::MachineInfo::current(1);
-    let html = page(&report, &machine, harness::machine::unix_now());
-    harness::store::write_atomic(&out.join("bench.html"), html.as_bytes())
+    let machine = crate::machine::MachineInfo::current(1);
+    let html = page(&report, &machine, crate::machine::unix_now());
+    crate::store::write_atomic(&out.join("bench.html"), html.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.html").display()))?;
     say!("{md}");
     say!(
@@ -396,14 +396,14 @@ fn markdown(r: &BenchReport) -> String {
 }
 
 /// The page of `r` (`bench.html`): what `markdown` shows, with the machine and the date.
-fn page(r: &BenchReport, machine: &harness::machine::MachineInfo, written_unix: u64) -> String {
-    use harness::html::{date, document, escape, key_values, para, section, table};
+fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u64) -> String {
+    use crate::html::{date, document, escape, key_values, para, section, table};
     let title = "brdf-sls bench";
     let mut body = format!("<h1>{title}</h1>\n");
     body.push_str(&key_values(&[
         ("program", escape(&r.program_version)),
         ("CPU", escape(&r.cpu)),
-        ("machine", escape(&harness::html::machine_text(machine))),
+        ("machine", escape(&crate::html::machine_text(machine))),
         ("written", date(written_unix)),
         (
             "peak of one core",
@@ -535,9 +535,9 @@ mod tests {
             cores: 2,
             load_warnings: vec!["load <high>".into()],
         };
-        let machine = harness::machine::MachineInfo::current(1);
+        let machine = crate::machine::MachineInfo::current(1);
         let html = page(&r, &machine, 0);
-        harness::html::wellformed::check(&html).unwrap();
+        crate::html::wellformed::check(&html).unwrap();
         assert!(html.contains("Test &lt;CPU&gt; &amp; co"));
         assert!(html.contains("1970-01-01T00:00:00Z"));
         for k in &r.kernels {

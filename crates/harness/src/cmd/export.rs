@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
+use crate::store::read_results;
 use anyhow::{Context, Result};
-use harness::store::read_results;
 
 use super::{input_error, note, say};
 use crate::cli::{ExportArgs, ExportFormat};
@@ -31,7 +31,7 @@ pub fn export(a: ExportArgs) -> Result<()> {
         &dir.display().to_string(),
         "instances and configurations are",
     )?;
-    let records = harness::report::plan_records(&spec, &contents.records);
+    let records = crate::report::plan_records(&spec, &contents.records);
     let planned = spec.trials_plan().len();
     if records.len() < planned {
         note!(
@@ -40,12 +40,12 @@ pub fn export(a: ExportArgs) -> Result<()> {
         );
     }
     let out = a.out.clone().unwrap_or_else(|| dir.join("ioh"));
-    harness::input_file::check_out_dir(&out)
+    crate::input_file::check_out_dir(&out)
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let done = match a.format {
         ExportFormat::Ioh => {
-            harness::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
-                harness::export::ExportError::NameClash { .. } => input_error(e.to_string()),
+            crate::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
+                crate::export::ExportError::NameClash { .. } => input_error(e.to_string()),
                 other => anyhow::Error::new(other),
             })?
         }

@@ -1,11 +1,11 @@
 //! `brdf-sls fit`: one fit of one data set with one algorithm (the logic is the library's
-//! [`harness::fit`], shared with the Python package).
+//! [`crate::fit`], shared with the Python package).
 
 use std::sync::Arc;
 
+use crate::fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
+use crate::progress::ProgressMode;
 use anyhow::{Context, Result};
-use harness::fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
-use harness::progress::ProgressMode;
 
 use super::shared::load_non_empty;
 use super::{input_error, say};
@@ -14,11 +14,11 @@ use crate::cli::FitArgs;
 /// `brdf-sls fit`.
 pub fn fit(a: FitArgs) -> Result<()> {
     check_budget(Surface::Cli, a.cpu_seconds, a.target)?;
-    if a.bootstrap > harness::spec::limits::MAX_BOOTSTRAP {
+    if a.bootstrap > crate::spec::limits::MAX_BOOTSTRAP {
         return Err(input_error(format!(
             "--bootstrap {}: at most {}",
             a.bootstrap,
-            harness::spec::limits::MAX_BOOTSTRAP
+            crate::spec::limits::MAX_BOOTSTRAP
         )));
     }
     let algorithm = algorithm_config(Surface::Cli, &a.algorithm, a.set.iter().cloned())?;
@@ -44,7 +44,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         progress: fit_progress(a.progress),
         surface: Surface::Cli,
     };
-    let fit = harness::fit::fit(data.clone(), &request, None)?;
+    let fit = crate::fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);
     say!(
         "algorithm {} (seed {}, kernel {}, descent {}, brdf-sls {}), stop: {:?}",
@@ -52,7 +52,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         a.seed,
         fit.kernel,
         request.descent,
-        harness::PROGRAM_VERSION,
+        crate::PROGRAM_VERSION,
         r.stop
     );
     say!(

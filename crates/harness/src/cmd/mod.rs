@@ -25,6 +25,32 @@ mod stress;
 mod trial;
 mod tune;
 
+/// The `brdf-sls` program: parses the command line, runs the command and returns its exit
+/// status (0 success or a closed output pipe, 2 bad input, 1 a failure while running).
+pub fn main() -> std::process::ExitCode {
+    use clap::Parser;
+    use std::process::ExitCode;
+    crate::signals::ignore_file_size_signal();
+    let cli = match crate::cli::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Help and version go to stdout with status 0; usage errors to stderr with 2.
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    match dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let code = exit_code(&e);
+            if code != 0 {
+                let _ = writeln!(std::io::stderr().lock(), "error: {}", message(&e));
+            }
+            ExitCode::from(code)
+        }
+    }
+}
+
 /// Runs one command.
 pub fn dispatch(command: Command) -> anyhow::Result<()> {
     match command {
@@ -113,36 +139,36 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
-            || harness::input_file::is_refused(c)
-            || c.is::<harness::seed_check::SeedMismatch>()
-            || c.is::<harness::spec::SpecError>()
+            || crate::input_file::is_refused(c)
+            || c.is::<crate::seed_check::SeedMismatch>()
+            || c.is::<crate::spec::SpecError>()
             || c.is::<brdf_model::DataError>()
             || c.is::<brdf_model::ModelError>()
             || c.is::<brdf_model::ParamError>()
             || c.is::<sls::ConfigError>()
             || c.is::<brdf_model::KernelError>()
-            || c.downcast_ref::<harness::fit::FitError>()
+            || c.downcast_ref::<crate::fit::FitError>()
                 .is_some_and(|f| f.is_input_error())
             || matches!(
-                c.downcast_ref::<harness::run::RunError>(),
+                c.downcast_ref::<crate::run::RunError>(),
                 Some(
-                    harness::run::RunError::ShardMismatch { .. }
+                    crate::run::RunError::ShardMismatch { .. }
                         // `Store` is transparent: the store's error is not in the chain itself.
-                        | harness::run::RunError::Store(
-                            harness::store::StoreError::FingerprintMismatch { .. }
-                                | harness::store::StoreError::DataChanged { .. }
-                                | harness::store::StoreError::BothPresent { .. }
+                        | crate::run::RunError::Store(
+                            crate::store::StoreError::FingerprintMismatch { .. }
+                                | crate::store::StoreError::DataChanged { .. }
+                                | crate::store::StoreError::BothPresent { .. }
                         )
                 )
             )
-            || c.downcast_ref::<harness::merge::MergeError>()
+            || c.downcast_ref::<crate::merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())
             || matches!(
-                c.downcast_ref::<harness::store::StoreError>(),
+                c.downcast_ref::<crate::store::StoreError>(),
                 Some(
-                    harness::store::StoreError::FingerprintMismatch { .. }
-                        | harness::store::StoreError::DataChanged { .. }
-                        | harness::store::StoreError::BothPresent { .. }
+                    crate::store::StoreError::FingerprintMismatch { .. }
+                        | crate::store::StoreError::DataChanged { .. }
+                        | crate::store::StoreError::BothPresent { .. }
                 )
             )
     })
@@ -202,7 +228,7 @@ mod tests {
     #[test]
     fn a_cause_already_in_its_parents_message_is_printed_once() {
         let io = std::io::Error::new(std::io::ErrorKind::StorageFull, "No space left on device");
-        let store = harness::store::StoreError::Io {
+        let store = crate::store::StoreError::Io {
             path: "runs/x/trials.jsonl".into(),
             source: io,
         };
@@ -216,7 +242,7 @@ mod tests {
     #[test]
     fn a_path_that_ends_the_parent_and_starts_the_cause_is_printed_once() {
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
-        let store = harness::store::StoreError::Io {
+        let store = crate::store::StoreError::Io {
             path: "runs/x/trials.jsonl".into(),
             source: io,
         };

@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::spec::DataFormat;
+use crate::store::read_results;
 use anyhow::{Context, Result};
 use brdf_model::{BrdfParams, DataSet};
-use harness::spec::DataFormat;
-use harness::store::read_results;
 
 use super::shared::{load_data, load_non_empty, params_rmse};
 use super::{bail_input, input_error, note, say};

@@ -1,9 +1,9 @@
 //! `brdf-sls run`: run or resume an experiment, then write its statistics, table and plots.
 
+use crate::prepare::{PrepareError, prepare};
+use crate::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
+use crate::spec::Spec;
 use anyhow::{Context, Result};
-use harness::prepare::{PrepareError, prepare};
-use harness::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
-use harness::spec::Spec;
 
 use super::shared::{default_out, load_spec};
 use super::{input_error, note, say};
@@ -23,7 +23,7 @@ pub fn run(a: RunArgs) -> Result<()> {
             None => base,
         }
     });
-    harness::input_file::check_out_dir(&out)
+    crate::input_file::check_out_dir(&out)
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let threads = useful_threads(&a, &spec)?;
     let kernel = a.kernel.unwrap_or(spec.kernel);
@@ -37,7 +37,7 @@ pub fn run(a: RunArgs) -> Result<()> {
     let spec = &prepared.spec;
     note!("{}", spec.describe(threads));
     note!("results: {}", out.display());
-    let machine = harness::machine::MachineInfo::current(threads);
+    let machine = crate::machine::MachineInfo::current(threads);
     note!(
         "machine: {}, {} logical CPUs, {} worker thread(s)",
         machine.cpu_model,
@@ -80,7 +80,7 @@ pub fn run(a: RunArgs) -> Result<()> {
     note!(
         "{} new trials in {} wall on {} thread(s) ({} resumed){}",
         outcome.new_trials,
-        harness::spec::human_seconds(outcome.wall_seconds),
+        crate::spec::human_seconds(outcome.wall_seconds),
         threads,
         outcome.resumed,
         if outcome.missing > 0 {
@@ -93,11 +93,11 @@ pub fn run(a: RunArgs) -> Result<()> {
         }
     );
     let report =
-        harness::report::write_report(spec, &outcome.records, &outcome.sessions, &out, !a.no_plots)
+        crate::report::write_report(spec, &outcome.records, &outcome.sessions, &out, !a.no_plots)
             .context("writing statistics and plots")?;
     let mut written = report.files.len();
     if !a.no_plots {
-        let folder = harness::folder::Folder::from_run(&out, spec.clone(), &outcome);
+        let folder = crate::folder::Folder::from_run(&out, spec.clone(), &outcome);
         super::report::write_report_page(&[folder], &out.join("report.html"))?;
         written += 1;
     }
@@ -110,12 +110,12 @@ pub fn run(a: RunArgs) -> Result<()> {
 }
 
 /// The worker threads of a run: the flag's, else the spec's, else all CPUs; refused above
-/// [`harness::threads::MAX_THREADS`], and capped (with a note) at the trials of the plan (or
+/// [`crate::threads::MAX_THREADS`], and capped (with a note) at the trials of the plan (or
 /// shard, or `--limit`) and the logical CPUs.
 fn useful_threads(a: &RunArgs, spec: &Spec) -> Result<usize> {
     let requested = match a.threads {
         Some(n) => {
-            harness::threads::check(n, "--threads").map_err(input_error)?;
+            crate::threads::check(n, "--threads").map_err(input_error)?;
             n
         }
         None => spec.threads.unwrap_or_else(default_threads),
@@ -125,7 +125,7 @@ fn useful_threads(a: &RunArgs, spec: &Spec) -> Result<usize> {
         None => spec.trials_plan().len(),
     };
     let trials = a.limit.map_or(planned, |l| planned.min(l));
-    let (threads, capped) = harness::threads::useful(requested, trials, default_threads());
+    let (threads, capped) = crate::threads::useful(requested, trials, default_threads());
     if let Some(c) = capped {
         note!("note: {c}");
     }

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::spec::Spec;
 use anyhow::Result;
 use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
-use harness::spec::Spec;
 
 use super::{input_error, note};
 use crate::cli::DataArgs;
@@ -21,13 +21,13 @@ pub fn default_out(spec: Option<&Path>) -> PathBuf {
         .and_then(|p| p.file_stem())
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "default".into());
-    PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem)
+    PathBuf::from(crate::DEFAULT_RUNS_DIR).join(stem)
 }
 
 /// Loads the data set the flags name, under the shared data policy (see [`DataArgs`]), and
 /// reports what the filters dropped on standard error.
 pub fn load_data(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
-    let (data, rep) = harness::fit::load_data(&args.file_spec())?;
+    let (data, rep) = crate::fit::load_data(&args.file_spec())?;
     note!(
         "{}: {} samples kept ({rep})",
         args.data.display(),
@@ -57,19 +57,19 @@ pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     Ok(Evaluator::new(&layout).rmse(&x, data))
 }
 
-/// The spec a results folder was last run with (`harness::report::stored_spec`): a stored text
+/// The spec a results folder was last run with (`crate::report::stored_spec`): a stored text
 /// that no longer parses is that spec's error; a folder without one is an input error whose
 /// message starts with `what` (the flag or folder the user named) and says what is unknown.
 pub fn stored_spec(
-    contents: &harness::store::Contents,
+    contents: &crate::store::Contents,
     dir: &Path,
     what: &str,
     unknown: &str,
 ) -> Result<Spec> {
-    match harness::report::stored_spec(contents, dir) {
+    match crate::report::stored_spec(contents, dir) {
         Ok(spec) => Ok(spec),
-        Err(harness::report::StoredSpecError::Spec(e)) => Err(e.into()),
-        Err(harness::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(format!(
+        Err(crate::report::StoredSpecError::Spec(e)) => Err(e.into()),
+        Err(crate::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(format!(
             "{what}: the header holds no spec text, so {unknown} unknown"
         ))),
     }

@@ -3,11 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::spec::{DataFormat, FileSpec};
 use anyhow::{Context, Result, bail};
 use brdf_graphics::ImageFormat;
 use brdf_graphics::chart::{self, Chart};
 use brdf_stress::{NamedData, StressOptions, StressReport};
-use harness::spec::{DataFormat, FileSpec};
 
 use super::{bail_input, note, say};
 use crate::cli::StressArgs;
@@ -25,7 +25,7 @@ pub fn stress(a: StressArgs) -> Result<()> {
     let out = a
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join("stress"));
+        .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RUNS_DIR).join("stress"));
     note!(
         "stress test ({}), seed {}, writing to {}",
         if a.quick { "quick" } else { "full" },
@@ -42,14 +42,14 @@ pub fn stress(a: StressArgs) -> Result<()> {
     };
     let report = brdf_stress::run(&options).context("running the stress test")?;
     report
-        .write_to(&out, harness::store::write_atomic)
+        .write_to(&out, crate::store::write_atomic)
         .with_context(|| format!("writing the report to {}", out.display()))?;
     let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
-    let machine = harness::machine::MachineInfo::current(report.threads);
-    let page = harness::html::stress_page(&report, &charts, &machine, harness::machine::unix_now())
+    let machine = crate::machine::MachineInfo::current(report.threads);
+    let page = crate::html::stress_page(&report, &charts, &machine, crate::machine::unix_now())
         .context("building the stress page")?;
     let html = out.join("stress.html");
-    harness::store::write_atomic(&html, page.as_bytes())
+    crate::store::write_atomic(&html, page.as_bytes())
         .with_context(|| format!("writing {}", html.display()))?;
     say!("{}", summary(&report));
     say!(
@@ -92,7 +92,7 @@ fn load_named(path: &Path) -> Result<NamedData> {
         drop_negative: false,
         drop_below_horizon: true,
     };
-    let (data, rep) = harness::instance::load_file(&spec, path)
+    let (data, rep) = crate::instance::load_file(&spec, path)
         .with_context(|| format!("reading {}", path.display()))?;
     note!("{}: {} samples ({rep})", path.display(), data.len());
     Ok(NamedData {
@@ -128,7 +128,7 @@ fn draw_plots(report: &StressReport, dir: &Path) -> Result<(Vec<PathBuf>, Vec<Ch
     let formats = [ImageFormat::Png, ImageFormat::Svg];
     let mut files = Vec::new();
     let mut charts = Vec::new();
-    for (stem, c) in harness::stress_charts::charts(report) {
+    for (stem, c) in crate::stress_charts::charts(report) {
         files.extend(chart::draw(&c, &dir.join(stem), &formats)?);
         charts.push(c);
     }

@@ -6,11 +6,11 @@ use std::io::{BufRead as _, BufReader, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use crate::spec::Spec;
+use crate::tune::irace::{self, Elite};
+use crate::tune::validation::{elite_label, validation_spec};
+use crate::tune::{MAX_BUDGET, TuneSpec};
 use anyhow::{Context, Result, bail};
-use harness::spec::Spec;
-use harness::tune::irace::{self, Elite};
-use harness::tune::validation::{elite_label, validation_spec};
-use harness::tune::{MAX_BUDGET, TuneSpec};
 
 use super::shared::{default_out, load_spec};
 use super::{bail_input, input_error, note, say};
@@ -18,7 +18,7 @@ use crate::cli::TuneArgs;
 
 /// Writes `text` to `path` atomically, naming the file in errors.
 fn write(path: &Path, text: &str) -> Result<()> {
-    harness::store::write_atomic(path, text.as_bytes())
+    crate::store::write_atomic(path, text.as_bytes())
         .with_context(|| format!("writing {}", path.display()))
 }
 
@@ -130,7 +130,7 @@ fn elites_csv(tune: &TuneSpec, elites: &[Elite]) -> String {
         s.push_str(&format!(
             "{},{},{}",
             i + 1,
-            harness::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
+            crate::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
             e.id
         ));
         for p in &tune.parameters {
@@ -170,7 +170,7 @@ pub fn tune(a: TuneArgs) -> Result<()> {
         .parallel
         .or(tune.parallel)
         .or(spec.threads)
-        .unwrap_or_else(harness::run::default_threads);
+        .unwrap_or_else(crate::run::default_threads);
     if parallel == 0 {
         return Err(input_error("--parallel must be at least 1"));
     }
