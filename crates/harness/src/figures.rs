@@ -21,9 +21,10 @@ pub fn rtd_chart(
     cutoff: Option<f64>,
 ) -> Chart {
     let trials = groups.iter().map(|g| g.records.len()).max().unwrap_or(0);
+    let shown = crate::stats::fmt_target(target);
     let mut chart = Chart::new(
-        format!("RTD - {instance}, target RMSE {target} ({trials} trials per configuration)"),
-        format!("{} to reach RMSE <= {target} (log scale)", measure.label()),
+        format!("RTD - {instance}, target RMSE {shown} ({trials} trials per configuration)"),
+        format!("{} to reach RMSE <= {shown} (log scale)", measure.label()),
         "fraction of trials solved",
     );
     chart.x_log = true;

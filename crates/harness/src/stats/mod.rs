@@ -45,7 +45,7 @@ pub use rtd::{
     Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier, outcome,
     quantile,
 };
-pub use tables::{configs_csv, csv_field, fmt_num, table, tests_csv};
+pub use tables::{configs_csv, csv_field, fmt_num, fmt_target, table, tests_csv};
 
 use crate::seed::StableHasher;
 use crate::store::TrialRecord;

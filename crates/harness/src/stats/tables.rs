@@ -90,6 +90,14 @@ pub fn csv_field(s: &str) -> String {
     }
 }
 
+/// A target RMSE for titles and headings: at most six significant digits, so a relative
+/// target (1% above a best-known RMSE of 0.09954...) reads 0.100538, not 0.10053773452859388;
+/// a target written in the spec (0.11) stays as written.
+pub fn fmt_target(t: f64) -> String {
+    let rounded: f64 = format!("{t:.5e}").parse().unwrap_or(t);
+    format!("{rounded}")
+}
+
 /// Formats a number compactly for tables (`-` for none).
 pub fn fmt_num(v: Option<f64>) -> String {
     match v {
@@ -123,7 +131,7 @@ pub fn table(report: &StatsReport) -> String {
             out.push_str(&format!(
                 "\n{} - target RMSE {}\n{}  {:>9}  {:>9} {:>9} {:>9}  {:>9} {:>21}  {:>10} {:>10}\n",
                 c.instance,
-                c.target,
+                fmt_target(c.target),
                 pad_right("configuration", width),
                 "success",
                 "q25 s",
@@ -251,6 +259,15 @@ fn fmt_p(p: Option<f64>) -> String {
 mod tests {
     use super::super::{ConfigStats, FinalQuality, summarise};
     use super::*;
+
+    #[test]
+    fn targets_read_with_at_most_six_significant_digits() {
+        assert_eq!(fmt_target(0.10053773452859388), "0.100538");
+        assert_eq!(fmt_target(0.11), "0.11");
+        assert_eq!(fmt_target(0.037), "0.037");
+        assert_eq!(fmt_target(5e-5), "0.00005");
+        assert_eq!(fmt_target(12345678.9), "12345700");
+    }
 
     fn report_with_labels(labels: &[String]) -> StatsReport {
         let summary = summarise(&[], 0, 0);
