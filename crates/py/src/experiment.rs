@@ -2,16 +2,20 @@
 //! records for pandas).
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use anyhow::Context;
 use brdf_model::Kernel;
 use harness::progress::ProgressMode;
-use harness::run::{RunError, RunOptions, SlsExecutor, default_threads, run_experiment};
-use harness::spec::Spec;
+use harness::run::{
+    Executor, Provenance, RunError, RunOptions, SlsExecutor, default_threads, run_experiment,
+};
+use harness::spec::{PlannedTrial, Spec};
 use harness::store::{StoreError, read_results as read_store};
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sls::{Budget, TrialResult};
 
 use crate::support::{chain, input_err, interruptible, run_err, to_python};
 
@@ -115,6 +119,11 @@ fn run_spec(
         .context("building the instances")
         .map_err(classify)?;
     executor.set_interrupt(flag);
+    let executor = PyExecutor {
+        inner: executor,
+        spec,
+        failures: Mutex::new(Vec::new()),
+    };
     let options = RunOptions {
         threads: a.threads,
         fresh: a.fresh,
@@ -122,6 +131,9 @@ fn run_spec(
         limit: a.limit,
     };
     let outcome = match run_experiment(spec, &a.out, &options, &executor) {
+        Err(RunError::Interrupted) if executor.failed() => {
+            return Err(input_err(executor.failure_message()));
+        }
         Err(RunError::Interrupted) => {
             return Err(PyKeyboardInterrupt::new_err(
                 RunError::Interrupted.to_string(),
@@ -146,6 +158,56 @@ fn run_spec(
         table: report.table,
         files: report.files,
     })
+}
+
+/// The run's executor: [`SlsExecutor`], plus the failures of Python algorithms. A trial whose
+/// algorithm failed ends as interrupted, which the runner never stores and which stops the
+/// run (the trials in flight finish and are stored); [`PyExecutor::failure_message`] then
+/// names its configuration.
+struct PyExecutor<'a> {
+    inner: SlsExecutor,
+    spec: &'a Spec,
+    failures: Mutex<Vec<String>>,
+}
+
+impl PyExecutor<'_> {
+    fn failed(&self) -> bool {
+        !self
+            .failures
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .is_empty()
+    }
+
+    fn failure_message(&self) -> String {
+        let failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
+        format!(
+            "running experiment `{}`: {}; the trials finished so far are saved: fix the algorithm and run again to resume",
+            self.spec.name,
+            failures.join("; ")
+        )
+    }
+}
+
+impl Executor for PyExecutor<'_> {
+    fn provenance(&self) -> Provenance {
+        self.inner.provenance()
+    }
+
+    fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
+        let result = self.inner.run(trial, target, budget);
+        if let Some(message) = crate::algorithm::take_failure() {
+            let label = &self.spec.configurations[trial.config].label;
+            self.failures
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(format!(
+                    "configuration `{label}` failed in trial {} (seed {}): {message}",
+                    trial.key, trial.seed
+                ));
+        }
+        result
+    }
 }
 
 /// An error of a run as InputError (what the command line treats as bad input, exit status

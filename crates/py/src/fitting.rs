@@ -79,7 +79,14 @@ pub fn fit(
         progress: harness::fit::FitProgress::Quiet,
         surface: Surface::Python,
     };
-    let outcome = interruptible(py, |flag| harness::fit::fit(data, &request, Some(flag)))?;
+    let (outcome, failure) = interruptible(py, |flag| {
+        let outcome = harness::fit::fit(data, &request, Some(flag));
+        // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
+        (outcome, crate::algorithm::take_failure())
+    })?;
+    if let Some(message) = failure {
+        return Err(input_err(message));
+    }
     match outcome {
         Ok(fit) => fit_dict(py, &request, fit),
         Err(FitError::Interrupted) => Err(PyKeyboardInterrupt::new_err("fit interrupted")),

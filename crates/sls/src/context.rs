@@ -417,6 +417,14 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         rmse
     }
 
+    /// Whether `x` is a finite point of the box, of the right length.
+    fn in_box(&self, x: &[f64]) -> bool {
+        x.len() == self.objective.dim()
+            && x.iter()
+                .zip(self.objective.lower().iter().zip(self.objective.upper()))
+                .all(|(&v, (&lo, &hi))| v.is_finite() && lo <= v && v <= hi)
+    }
+
     fn is_known(&self, x: &[f64]) -> bool {
         self.known_rmse.is_some()
             && x.iter()
@@ -593,6 +601,49 @@ impl<O: Objective> Search for TrialContext<'_, O> {
         self.count("descents");
         self.count(descent_counter(descent.code()));
         Ok(descent)
+    }
+
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> Result<bool, Stop> {
+        let n = self.objective.sample_count();
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        if !self.in_box(x) || r.len() != n {
+            return Ok(false);
+        }
+        // The same unit as a descent's residual evaluation over the full data.
+        self.meter.charge(Kind::Residual, n)?;
+        self.objective
+            .select(&mut self.work, Rows::Full, &mut self.rng);
+        if !self.objective.residuals(&mut self.work, x, r) {
+            return Ok(false);
+        }
+        let sum: f64 = r.iter().map(|v| v * v).sum();
+        let rmse = (sum / n as f64).sqrt();
+        if rmse.is_finite() {
+            // As after a full-data descent: an evaluation of this `x` next costs nothing.
+            self.remember(x, Known::Exact(rmse));
+        }
+        Ok(true)
+    }
+
+    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> Result<bool, Stop> {
+        let n = self.objective.sample_count();
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        if !self.in_box(x) || jac.len() != n * self.objective.dim() {
+            return Ok(false);
+        }
+        // One Jacobian row per sample, as in a descent.
+        self.meter.charge(Kind::Jacobian, n)?;
+        self.objective
+            .select(&mut self.work, Rows::Full, &mut self.rng);
+        Ok(self.objective.jacobian(&mut self.work, x, jac))
+    }
+
+    fn check_budget(&mut self) -> Result<(), Stop> {
+        self.meter.poll_clock()
     }
 
     fn count(&mut self, name: &'static str) {
@@ -854,6 +905,71 @@ mod tests {
         let r = ctx.finish(Ok(()));
         assert_eq!(r.stop, StopReason::Finished);
         assert!(r.counters.contains(&("rmse_reused".to_string(), 1)));
+    }
+
+    #[test]
+    fn residuals_and_jacobian_are_charged_as_a_descents() {
+        let toy = Toy::new(40, 0.0, 5);
+        let budget = Budget {
+            cpu_seconds: None,
+            sample_evaluations: Some(150),
+        };
+        let mut ctx = TrialContext::new(&toy, 1, budget, 0.0);
+        let x = [1.0, 1.0, 0.0];
+        let mut r = vec![0.0; 40];
+        assert_eq!(ctx.residuals(&x, &mut r), Ok(true));
+        let mut ws = toy.workspace();
+        toy.select(&mut ws, Rows::Full, &mut SearchRng::seed_from_u64(0));
+        let mut expected = vec![0.0; 40];
+        assert!(toy.residuals(&mut ws, &x, &mut expected));
+        assert_eq!(r, expected);
+        let mut jac = vec![0.0; 40 * 3];
+        assert_eq!(ctx.jacobian(&x, &mut jac), Ok(true));
+        let mut expected_jac = vec![0.0; 40 * 3];
+        assert!(toy.jacobian(&mut ws, &x, &mut expected_jac));
+        assert_eq!(jac, expected_jac);
+        let c = ctx.counts();
+        assert_eq!((c.residual_rows, c.jacobian_rows, c.rmse_rows), (40, 40, 0));
+        // The residuals gave the RMSE: evaluating the same point is free.
+        let rmse = ctx.evaluate(&x).unwrap();
+        let direct = (expected.iter().map(|v| v * v).sum::<f64>() / 40.0).sqrt();
+        assert_eq!(rmse.to_bits(), direct.to_bits());
+        assert_eq!(ctx.counts().rmse_rows, 0);
+        // Points outside the box, non-finite or of the wrong length are not evaluated (and
+        // not charged); a wrong buffer length neither.
+        for bad in [[1.0, 6.0, 0.0], [f64::NAN, 1.0, 0.0]] {
+            assert_eq!(ctx.residuals(&bad, &mut r), Ok(false));
+            assert_eq!(ctx.jacobian(&bad, &mut jac), Ok(false));
+        }
+        assert_eq!(ctx.residuals(&x[..2], &mut r), Ok(false));
+        assert_eq!(ctx.jacobian(&x, &mut jac[..10]), Ok(false));
+        assert_eq!(ctx.counts().total(), 80);
+        // 80 + 40 = 120 fits the budget of 150; another 40 would not, and the stop sticks.
+        assert_eq!(ctx.residuals(&x, &mut r), Ok(true));
+        assert_eq!(ctx.jacobian(&x, &mut jac), Err(Stop::EvaluationBudget));
+        assert_eq!(ctx.residuals(&x, &mut r), Err(Stop::EvaluationBudget));
+        assert_eq!(ctx.counts().total(), 120);
+        assert_eq!(ctx.check_budget(), Err(Stop::EvaluationBudget));
+        let result = ctx.finish(Err(Stop::EvaluationBudget));
+        assert_eq!(result.best_rmse.to_bits(), direct.to_bits());
+    }
+
+    #[test]
+    fn check_budget_notices_the_cpu_cutoff_without_evaluating() {
+        let toy = Toy::new(10, 0.0, 5);
+        let budget = Budget {
+            cpu_seconds: Some(0.01),
+            sample_evaluations: None,
+        };
+        let mut ctx = TrialContext::new(&toy, 1, budget, 0.0);
+        assert_eq!(ctx.check_budget(), Ok(()));
+        let t = ThreadTime::now();
+        while t.elapsed().as_secs_f64() < 0.02 {
+            std::hint::spin_loop();
+        }
+        assert_eq!(ctx.check_budget(), Err(Stop::CpuBudget));
+        assert_eq!(ctx.counts().total(), 0);
+        assert_eq!(ctx.finish(Err(Stop::CpuBudget)).stop, StopReason::CpuBudget);
     }
 
     #[test]
