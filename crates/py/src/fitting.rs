@@ -17,7 +17,8 @@ use crate::support::{enum_value, input_err, interruptible, run_err, settings, to
 /// Fits `data` with one algorithm, as `brdf-sls fit DATA --algorithm ALGORITHM --set K=V ...`.
 ///
 /// data: a DataSet (or a path, read with the defaults); algorithm: "aed", "aers", "rpls",
-/// "ds", "sa", "sals", "avg" or "asa"; any other keyword argument is a setting of that
+/// "ds", "sa", "sals", "avg", "asa", or "python" (with `entry="module:function"`, an algorithm
+/// written in Python, see docs/own-algorithm.md); any other keyword argument is a setting of that
 /// algorithm (`phi=1.2`, as `--set phi=1.2`; missing ones take the paper's defaults). lobes,
 /// kind, exponent, fixed: the model (see `Model`); target: stop at this RMSE (0: use the whole
 /// budget); cpu_seconds: the CPU-time budget of the worker thread; seed: as `--seed`;

@@ -235,3 +235,14 @@ def test_python_m_brdf_sls_run(tmp_path):
         capture_output=True, text=True, env=env, cwd=tmp_path,
     )
     assert p.returncode == 2 and "configuration `PY` failed" in p.stderr, p.stderr
+
+
+def test_fit_runs_a_python_algorithm():
+    data = bs.DataSet.synthetic("tuning", 200, sigma=0.1, seed=3)
+    a = bs.fit(data, "python", entry="pyalgos:walk", step=0.1, cpu_seconds=0.3, target=0.12, seed=4)
+    assert a["algorithm"] == {"kind": "python", "entry": "pyalgos:walk", "step": 0.1}
+    assert a["evaluations"] > 0 and a["stop"] in ("target", "cpu_budget")
+    with pytest.raises(bs.InputError, match=r"python `pyalgos:raises` raised ValueError: a bug"):
+        bs.fit(data, "python", entry="pyalgos:raises", cpu_seconds=0.3)
+    with pytest.raises(bs.InputError, match=r"`entry` module `pyalgos` has no `nope`"):
+        bs.fit(data, "python", entry="pyalgos:nope", cpu_seconds=0.3)

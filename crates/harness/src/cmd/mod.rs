@@ -15,6 +15,7 @@ mod export;
 mod fit;
 mod merge;
 mod polar;
+mod python;
 mod render;
 mod report;
 mod results;
