@@ -17,10 +17,10 @@
 //! [`take_failure`] on the trial's thread.
 
 use std::cell::Cell;
-use std::collections::BTreeMap;
 use std::ptr::NonNull;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
+use harness::python_kind::PythonEntry;
 use numpy::ndarray::{Array2, ShapeBuilder};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::create_exception;
@@ -43,32 +43,20 @@ create_exception!(
 
 /// An algorithm written in Python: `[[algorithm]] kind = "python"`, `entry =
 /// "package.module:function"`, and any other keys, which are passed to the function as keyword
-/// arguments (`function(problem, **settings)`).
+/// arguments (`function(problem, **settings)`). The configuration is the harness's
+/// [`PythonEntry`] (the command line reads the same records).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct PythonAlgorithm {
-    /// The function: `package.module:function`, imported as Python imports it (`sys.path`).
-    pub entry: String,
-    /// Every other key of the entry, the function's keyword arguments.
-    #[serde(flatten)]
-    pub settings: BTreeMap<String, serde_json::Value>,
-}
+#[serde(transparent)]
+pub struct PythonAlgorithm(pub PythonEntry);
 
 impl Algorithm for PythonAlgorithm {
-    const KIND: &'static str = "python";
+    const KIND: &'static str = harness::python_kind::KIND;
 
     /// Checks the entry's form, then imports the module and looks the function up (so a
     /// misspelt entry is an error of the experiment file, before any trial runs).
     fn validate(&self) -> Result<(), ConfigError> {
-        let (module, function) = self.split_entry()?;
-        if let Some(key) = self.settings.keys().find(|k| !is_identifier(k)) {
-            return Err(ConfigError::new(
-                Self::KIND,
-                "entry",
-                format!(
-                    "setting `{key}` is not a Python identifier, so it cannot be passed as a keyword argument"
-                ),
-            ));
-        }
+        self.0.check_form()?;
+        let (module, function) = self.0.split_entry()?;
         Python::attach(|py| {
             resolve(py, module, function)
                 .map(drop)
@@ -80,7 +68,7 @@ impl Algorithm for PythonAlgorithm {
         FAILURE.take();
         let outcome = Python::attach(|py| self.run_in_python(py, search));
         outcome.unwrap_or_else(|message| {
-            FAILURE.set(Some(format!("python `{}` {message}", self.entry)));
+            FAILURE.set(Some(format!("python `{}` {message}", self.0.entry)));
             Err(Stop::Interrupted)
         })
     }
@@ -105,28 +93,13 @@ pub fn register() {
 }
 
 impl PythonAlgorithm {
-    fn split_entry(&self) -> Result<(&str, &str), ConfigError> {
-        let bad = || {
-            ConfigError::new(
-                Self::KIND,
-                "entry",
-                format!("must be `package.module:function`, found {:?}", self.entry),
-            )
-        };
-        let (module, function) = self.entry.split_once(':').ok_or_else(bad)?;
-        if !module.split('.').all(is_identifier) || !is_identifier(function) {
-            return Err(bad());
-        }
-        Ok((module, function))
-    }
-
     /// Calls the function with a [`Problem`] over `search`; `Err` is a failure's message.
     fn run_in_python(
         &self,
         py: Python<'_>,
         search: &mut dyn Search,
     ) -> Result<Result<(), Stop>, String> {
-        let (module, function) = self.split_entry().map_err(|e| e.to_string())?;
+        let (module, function) = self.0.split_entry().map_err(|e| e.to_string())?;
         let function = resolve(py, module, function)?;
         // One draw from the trial's generator seeds numpy's: reproducible from the trial seed.
         let seed = search.rng().next_u64();
@@ -136,11 +109,11 @@ impl PythonAlgorithm {
             .map_err(|e| describe(py, &e))?
             .unbind();
         let kwargs = PyDict::new(py);
-        for (key, value) in &self.settings {
+        for (key, value) in &self.0.settings {
             let value = crate::support::to_python(py, value).map_err(|e| describe(py, &e))?;
             kwargs.set_item(key, value).map_err(|e| describe(py, &e))?;
         }
-        let problem = Problem::new(search, self.entry.clone(), rng);
+        let problem = Problem::new(search, self.0.entry.clone(), rng);
         let problem = Py::new(py, problem).map_err(|e| describe(py, &e))?;
         let live = Live {
             py,
@@ -217,12 +190,6 @@ fn describe(py: Python<'_>, e: &PyErr) -> String {
 fn repr(v: &Bound<'_, PyAny>) -> String {
     v.repr()
         .map_or_else(|_| "a value".into(), |r| r.to_string())
-}
-
-fn is_identifier(s: &str) -> bool {
-    let mut chars = s.chars();
-    chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
-        && chars.all(|c| c.is_alphanumeric() || c == '_')
 }
 
 /// Clears the problem's link to the trial when the call ends, however it ends: a Problem kept

@@ -68,6 +68,11 @@ def test_guide_example_runs_with_the_command_line(cli, example):
     )
     assert p.returncode == 0, p.stderr
     check_results(example / "out")
+    # The commands that only read specs and results know the kind without Python.
+    stats = cli("stats", example / "out", "--print-only")
+    assert "Compass" in stats.stdout
+    check = cli("check", example / "compass.toml")
+    assert "Compass" in check.stdout + check.stderr
 
 
 def test_the_command_line_says_what_to_install(cli, example):

@@ -111,6 +111,7 @@ def test_python_beside_aed_records_resume_and_stats(tmp_path):
     assert any(row["config"] == "PY" and row["trials"] == 3 for row in results.stats)
     table = (out / "table.txt").read_text()
     assert "PY" in table and "AED" in table
+    assert "note: PY run in Python: their CPU seconds include the interpreter's overhead" in table
     assert "PY" in (out / "stats.csv").read_text()
 
 
@@ -246,3 +247,15 @@ def test_fit_runs_a_python_algorithm():
         bs.fit(data, "python", entry="pyalgos:raises", cpu_seconds=0.3)
     with pytest.raises(bs.InputError, match=r"`entry` module `pyalgos` has no `nope`"):
         bs.fit(data, "python", entry="pyalgos:nope", cpu_seconds=0.3)
+
+
+def test_settings_can_be_swept(tmp_path):
+    python = python_entry("pyalgos:walk") + "\n[algorithm.sweep]\nstep = [0.05, 0.2]"
+    spec = write_spec(tmp_path, python, name="sweep", trials=1, evaluations=5_000)
+    out = tmp_path / "out"
+    bs.run(spec, out, plots=False)
+    header, recs = records(out)
+    settings = {c["label"]: c["algorithm"] for c in header["spec"]["configurations"]}
+    assert settings["PY step=0.05"] == {"kind": "python", "entry": "pyalgos:walk", "step": 0.05}
+    assert settings["PY step=0.2"]["step"] == 0.2
+    assert sorted(r["config"] for r in recs) == ["AED", "PY step=0.05", "PY step=0.2"]

@@ -35,7 +35,11 @@ def main(argv: list[str] | None = None) -> int:
 
     threads = args.threads
     if threads is None and os.environ.get("BRDF_SLS_THREADS"):
-        threads = int(os.environ["BRDF_SLS_THREADS"])
+        try:
+            threads = int(os.environ["BRDF_SLS_THREADS"])
+        except ValueError:
+            print(f"error: BRDF_SLS_THREADS={os.environ['BRDF_SLS_THREADS']}: expected a number of threads", file=sys.stderr)
+            return 2
     try:
         result = run(
             args.spec,
