@@ -131,9 +131,6 @@ fn run_spec(
         limit: a.limit,
     };
     let outcome = match run_experiment(spec, &a.out, &options, &executor) {
-        Err(RunError::Interrupted) if executor.failed() => {
-            return Err(input_err(executor.failure_message()));
-        }
         Err(RunError::Interrupted) => {
             return Err(PyKeyboardInterrupt::new_err(
                 RunError::Interrupted.to_string(),
@@ -150,6 +147,9 @@ fn run_spec(
         harness::report::write_report(spec, &outcome.records, &contents.sessions, &a.out, a.plots)
             .context("writing statistics and plots")
             .map_err(classify)?;
+    if let Some(message) = executor.failure_message(outcome.missing) {
+        return Err(input_err(message));
+    }
     Ok(Ran {
         new_trials: outcome.new_trials,
         resumed: outcome.resumed,
@@ -161,31 +161,35 @@ fn run_spec(
 }
 
 /// The run's executor: [`SlsExecutor`], plus the failures of Python algorithms. A trial whose
-/// algorithm failed ends as interrupted, which the runner never stores and which stops the
-/// run (the trials in flight finish and are stored); [`PyExecutor::failure_message`] then
-/// names its configuration.
+/// algorithm failed ends as interrupted; its configuration's trials are skipped from then on
+/// (neither that one nor the others are stored) while the other configurations run to the end,
+/// and [`PyExecutor::failure_message`] names the configuration afterwards.
 struct PyExecutor<'a> {
     inner: SlsExecutor,
     spec: &'a Spec,
-    failures: Mutex<Vec<String>>,
+    /// The failed configurations (by index) and the first failure of each.
+    failures: Mutex<Vec<(usize, String)>>,
 }
 
 impl PyExecutor<'_> {
-    fn failed(&self) -> bool {
-        !self
-            .failures
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .is_empty()
+    fn failures(&self) -> std::sync::MutexGuard<'_, Vec<(usize, String)>> {
+        self.failures.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn failure_message(&self) -> String {
-        let failures = self.failures.lock().unwrap_or_else(|e| e.into_inner());
-        format!(
-            "running experiment `{}`: {}; the trials finished so far are saved: fix the algorithm and run again to resume",
+    /// The error of a run in which configurations failed, `missing` trials left unrun.
+    fn failure_message(&self, missing: usize) -> Option<String> {
+        let failures = self.failures();
+        if failures.is_empty() {
+            return None;
+        }
+        let each: Vec<&str> = failures.iter().map(|(_, m)| m.as_str()).collect();
+        Some(format!(
+            "running experiment `{}`: {}; trials missing: {missing}; the other configurations \
+             ran and every finished trial is saved, with the statistics: fix the algorithm and \
+             run again to resume",
             self.spec.name,
-            failures.join("; ")
-        )
+            each.join("; ")
+        ))
     }
 }
 
@@ -197,16 +201,22 @@ impl Executor for PyExecutor<'_> {
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
         let result = self.inner.run(trial, target, budget);
         if let Some(message) = crate::algorithm::take_failure() {
-            let label = &self.spec.configurations[trial.config].label;
-            self.failures
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .push(format!(
+            let mut failures = self.failures();
+            // Trials of the configuration that were in flight may fail too: the first says it.
+            if !failures.iter().any(|(c, _)| *c == trial.config) {
+                let label = &self.spec.configurations[trial.config].label;
+                let message = format!(
                     "configuration `{label}` failed in trial {} (seed {}): {message}",
                     trial.key, trial.seed
-                ));
+                );
+                failures.push((trial.config, message));
+            }
         }
         result
+    }
+
+    fn skip(&self, trial: &PlannedTrial) -> bool {
+        self.failures().iter().any(|(c, _)| *c == trial.config)
     }
 }
 

@@ -183,9 +183,12 @@ def test_a_failing_algorithm_fails_its_configuration_with_its_message(tmp_path, 
     text = str(e.value)
     assert f"configuration `PY` failed in trial" in text, text
     assert f"python `pyalgos:{function}`" in text and message in text, text
-    assert "the trials finished so far are saved" in text
+    # Both PY trials are missing: the failed one and the one skipped (or failed too) after it.
+    assert "trials missing: 2; the other configurations ran and every finished trial is saved" in text
+    # The failed configuration's trials are neither stored nor run on; AED's all ran.
     _, recs = records(tmp_path / "out")
-    assert all(r["config"] == "AED" for r in recs)
+    assert sorted(r["key"] for r in recs) == ["tuning/AED/0", "tuning/AED/1"]
+    assert "AED" in (tmp_path / "out" / "table.txt").read_text()
 
 
 def test_no_finished_trial_is_lost_and_a_fixed_algorithm_resumes(tmp_path, monkeypatch):
@@ -202,6 +205,8 @@ def test_no_finished_trial_is_lost_and_a_fixed_algorithm_resumes(tmp_path, monke
     _, after = records(out)
     keys_after = {r["key"] for r in after}
     assert {r["key"] for r in before} <= keys_after
+    # Every trial of AED and WALK ran; FLAKY's failed at once and the rest were skipped.
+    assert len(after) == 4 + 4 + 1
     # The one FLAKY trial that finished before is still there; none was added.
     assert [r["key"] for r in after if r["config"] == "FLAKY"] == [r["key"] for r in before if r["config"] == "FLAKY"]
     monkeypatch.delenv(pyalgos.FAIL_ENV)
