@@ -15,9 +15,10 @@ use crate::cli::RunArgs;
 const PYTHON_VAR: &str = "BRDF_SLS_PYTHON";
 
 /// Whether the spec at `path` has an `[[algorithm]]` with `kind = "python"`. A file that cannot
-/// be read or parsed says no: the ordinary path reports its errors.
+/// be read or parsed says no: the ordinary path reports its errors. Read as the spec loader
+/// reads it, so a FIFO or a device is refused there, not waited on here.
 pub fn uses_python(path: &Path) -> bool {
-    std::fs::read_to_string(path)
+    harness::input_file::read_spec_text(path)
         .ok()
         .and_then(|text| text.parse::<toml::Table>().ok())
         .is_some_and(|table| has_python_kind(&table))
