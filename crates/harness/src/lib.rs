@@ -72,6 +72,7 @@ pub mod merge;
 pub mod params;
 pub mod prepare;
 pub mod progress;
+pub mod python_kind;
 pub mod report;
 pub mod run;
 pub mod seed;

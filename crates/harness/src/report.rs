@@ -126,7 +126,7 @@ pub fn write_report(
     let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
     let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
     let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
-    let table = with_best_known(spec, &owned, stats::table(&report));
+    let table = with_python_note(spec, with_best_known(spec, &owned, stats::table(&report)));
     let mut files = Vec::new();
     let stats_path = out.join("stats.json");
     let json = to_json(&stats_path, &report)?;
@@ -217,6 +217,29 @@ fn with_best_known(spec: &Spec, records: &[TrialRecord], mut table: String) -> S
         table.push_str(&w);
         table.push('\n');
     }
+    table
+}
+
+/// The table with a note when configurations run in Python: their CPU seconds include the
+/// interpreter's overhead, so the table's evaluation columns are the fair comparison.
+fn with_python_note(spec: &Spec, mut table: String) -> String {
+    let python: Vec<&str> = spec
+        .configurations
+        .iter()
+        .filter(|c| c.algorithm.kind_name() == crate::python_kind::KIND)
+        .map(|c| c.label.as_str())
+        .collect();
+    if python.is_empty() {
+        return table;
+    }
+    if !table.ends_with('\n') {
+        table.push('\n');
+    }
+    table.push_str(&format!(
+        "note: {} run in Python: their CPU seconds include the interpreter's overhead; compare \
+         the evaluation columns (sample-evaluations) beside them\n",
+        python.join(", ")
+    ));
     table
 }
 

@@ -7,7 +7,7 @@
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -34,6 +34,16 @@ pub trait Executor: Sync {
     /// each instance's data. Empty for test executors.
     fn provenance(&self) -> Provenance {
         Provenance::default()
+    }
+
+    /// Whether `trial` is not to be run, or its result (which must then be
+    /// [`StopReason::Interrupted`]) not stored, because its configuration failed: an
+    /// algorithm written in Python that raised, say, whose executor keeps the message. The
+    /// run goes on with the other configurations and counts such trials as missing. `false`
+    /// by default.
+    fn skip(&self, trial: &PlannedTrial) -> bool {
+        let _ = trial;
+        false
     }
 }
 
@@ -360,6 +370,7 @@ pub fn run_locked<E: Executor>(
             message: e.to_string(),
         })?;
     let fresh_records = Mutex::new(Vec::with_capacity(pending.len()));
+    let skipped = AtomicUsize::new(0);
     let started = Instant::now();
     let store = &opened.store;
     let result: Result<(), RunError> = pool.install(|| {
@@ -368,6 +379,10 @@ pub fn run_locked<E: Executor>(
             // One trial per task: trials are long and uneven, so no batching.
             .with_max_len(1)
             .try_for_each(|t| {
+                if executor.skip(t) {
+                    skipped.fetch_add(1, Ordering::Relaxed);
+                    return Ok(());
+                }
                 let inst = &spec.instances[t.instance];
                 let target = inst.run_target();
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -385,6 +400,10 @@ pub fn run_locked<E: Executor>(
                 // An interrupted trial is incomplete: storing it would record a censored run
                 // that never happened.
                 if result.stop == StopReason::Interrupted {
+                    if executor.skip(t) {
+                        skipped.fetch_add(1, Ordering::Relaxed);
+                        return Ok(());
+                    }
                     return Err(RunError::Interrupted);
                 }
                 let record = TrialRecord {
@@ -429,7 +448,7 @@ pub fn run_locked<E: Executor>(
         records: all,
         new_trials,
         resumed: done.len(),
-        missing: missing_after,
+        missing: missing_after + skipped.into_inner(),
         header: file_header,
         sessions: opened.sessions,
         notes: opened.notes,

@@ -233,3 +233,49 @@ fn a_panicking_trial_stops_the_run_and_keeps_finished_trials() {
     let r = run_experiment(&s, &out, &options(2), &Fake { panic_on: None }).unwrap();
     assert_eq!((r.resumed, r.new_trials), (6, 6));
 }
+
+/// [`Fake`] whose configuration 1 fails at its first trial (ends it as interrupted, as a
+/// failing Python algorithm does) and is skipped from then on.
+struct FailingConfig {
+    failed: std::sync::atomic::AtomicBool,
+}
+
+impl harness::run::Executor for FailingConfig {
+    fn run(
+        &self,
+        t: &harness::spec::PlannedTrial,
+        target: f64,
+        b: sls::Budget,
+    ) -> sls::TrialResult {
+        let mut result = Fake { panic_on: None }.run(t, target, b);
+        if t.config == 1 {
+            self.failed
+                .store(true, std::sync::atomic::Ordering::Relaxed);
+            result.stop = sls::StopReason::Interrupted;
+        }
+        result
+    }
+
+    fn skip(&self, t: &harness::spec::PlannedTrial) -> bool {
+        t.config == 1 && self.failed.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+#[test]
+fn a_failed_configuration_is_skipped_while_the_others_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(TINY, dir.path());
+    let out = dir.path().join("r");
+    let failing = FailingConfig {
+        failed: std::sync::atomic::AtomicBool::new(false),
+    };
+    let r = run_experiment(&s, &out, &options(2), &failing).unwrap();
+    // Every trial of the other two configurations ran and was stored; none of configuration 1.
+    assert_eq!((r.new_trials, r.missing), (8, 4));
+    let label = &s.configurations[1].label;
+    assert!(r.records.iter().all(|rec| &rec.config != label));
+    assert_eq!(read_results(&out).unwrap().records.len(), 8);
+    // Fixed, the run resumes with the skipped configuration only.
+    let r = run_experiment(&s, &out, &options(2), &Fake { panic_on: None }).unwrap();
+    assert_eq!((r.resumed, r.new_trials, r.missing), (8, 4, 0));
+}

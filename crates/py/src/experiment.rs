@@ -2,16 +2,20 @@
 //! records for pandas).
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use anyhow::Context;
 use brdf_model::Kernel;
 use harness::progress::ProgressMode;
-use harness::run::{RunError, RunOptions, SlsExecutor, default_threads, run_experiment};
-use harness::spec::Spec;
+use harness::run::{
+    Executor, Provenance, RunError, RunOptions, SlsExecutor, default_threads, run_experiment,
+};
+use harness::spec::{PlannedTrial, Spec};
 use harness::store::{StoreError, read_results as read_store};
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use sls::{Budget, TrialResult};
 
 use crate::support::{chain, input_err, interruptible, run_err, to_python};
 
@@ -115,6 +119,11 @@ fn run_spec(
         .context("building the instances")
         .map_err(classify)?;
     executor.set_interrupt(flag);
+    let executor = PyExecutor {
+        inner: executor,
+        spec,
+        failures: Mutex::new(Vec::new()),
+    };
     let options = RunOptions {
         threads: a.threads,
         fresh: a.fresh,
@@ -138,6 +147,9 @@ fn run_spec(
         harness::report::write_report(spec, &outcome.records, &contents.sessions, &a.out, a.plots)
             .context("writing statistics and plots")
             .map_err(classify)?;
+    if let Some(message) = executor.failure_message(outcome.missing) {
+        return Err(input_err(message));
+    }
     Ok(Ran {
         new_trials: outcome.new_trials,
         resumed: outcome.resumed,
@@ -146,6 +158,66 @@ fn run_spec(
         table: report.table,
         files: report.files,
     })
+}
+
+/// The run's executor: [`SlsExecutor`], plus the failures of Python algorithms. A trial whose
+/// algorithm failed ends as interrupted; its configuration's trials are skipped from then on
+/// (neither that one nor the others are stored) while the other configurations run to the end,
+/// and [`PyExecutor::failure_message`] names the configuration afterwards.
+struct PyExecutor<'a> {
+    inner: SlsExecutor,
+    spec: &'a Spec,
+    /// The failed configurations (by index) and the first failure of each.
+    failures: Mutex<Vec<(usize, String)>>,
+}
+
+impl PyExecutor<'_> {
+    fn failures(&self) -> std::sync::MutexGuard<'_, Vec<(usize, String)>> {
+        self.failures.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The error of a run in which configurations failed, `missing` trials left unrun.
+    fn failure_message(&self, missing: usize) -> Option<String> {
+        let failures = self.failures();
+        if failures.is_empty() {
+            return None;
+        }
+        let each: Vec<&str> = failures.iter().map(|(_, m)| m.as_str()).collect();
+        Some(format!(
+            "running experiment `{}`: {}; trials missing: {missing}; the other configurations \
+             ran and every finished trial is saved, with the statistics: fix the algorithm and \
+             run again to resume",
+            self.spec.name,
+            each.join("; ")
+        ))
+    }
+}
+
+impl Executor for PyExecutor<'_> {
+    fn provenance(&self) -> Provenance {
+        self.inner.provenance()
+    }
+
+    fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
+        let result = self.inner.run(trial, target, budget);
+        if let Some(message) = crate::algorithm::take_failure() {
+            let mut failures = self.failures();
+            // Trials of the configuration that were in flight may fail too: the first says it.
+            if !failures.iter().any(|(c, _)| *c == trial.config) {
+                let label = &self.spec.configurations[trial.config].label;
+                let message = format!(
+                    "configuration `{label}` failed in trial {} (seed {}): {message}",
+                    trial.key, trial.seed
+                );
+                failures.push((trial.config, message));
+            }
+        }
+        result
+    }
+
+    fn skip(&self, trial: &PlannedTrial) -> bool {
+        self.failures().iter().any(|(c, _)| *c == trial.config)
+    }
 }
 
 /// An error of a run as InputError (what the command line treats as bad input, exit status

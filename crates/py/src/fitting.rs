@@ -17,7 +17,8 @@ use crate::support::{enum_value, input_err, interruptible, run_err, settings, to
 /// Fits `data` with one algorithm, as `brdf-sls fit DATA --algorithm ALGORITHM --set K=V ...`.
 ///
 /// data: a DataSet (or a path, read with the defaults); algorithm: "aed", "aers", "rpls",
-/// "ds", "sa", "sals", "avg" or "asa"; any other keyword argument is a setting of that
+/// "ds", "sa", "sals", "avg", "asa", or "python" (with `entry="module:function"`, an algorithm
+/// written in Python, see docs/own-algorithm.md); any other keyword argument is a setting of that
 /// algorithm (`phi=1.2`, as `--set phi=1.2`; missing ones take the paper's defaults). lobes,
 /// kind, exponent, fixed: the model (see `Model`); target: stop at this RMSE (0: use the whole
 /// budget); cpu_seconds: the CPU-time budget of the worker thread; seed: as `--seed`;
@@ -79,7 +80,14 @@ pub fn fit(
         progress: harness::fit::FitProgress::Quiet,
         surface: Surface::Python,
     };
-    let outcome = interruptible(py, |flag| harness::fit::fit(data, &request, Some(flag)))?;
+    let (outcome, failure) = interruptible(py, |flag| {
+        let outcome = harness::fit::fit(data, &request, Some(flag));
+        // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
+        (outcome, crate::algorithm::take_failure())
+    })?;
+    if let Some(message) = failure {
+        return Err(input_err(message));
+    }
     match outcome {
         Ok(fit) => fit_dict(py, &request, fit),
         Err(FitError::Interrupted) => Err(PyKeyboardInterrupt::new_err("fit interrupted")),

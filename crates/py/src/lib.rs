@@ -1,6 +1,7 @@
 //! `brdf_sls._native`: the Python extension module of brdf-sls, built with maturin from the
 //! workspace's crates (brdf-model, sls, harness), so nothing is implemented twice.
 //!
+//! - [`algorithm`]: `kind = "python"`, search algorithms written in Python (the `Problem` class).
 //! - [`data`]: the `DataSet` class (Cornell, CSV, MERL files, numpy arrays, synthetic data).
 //! - [`model`]: the `Model` class (evaluate, residuals, RMSE, Jacobian) and `rmse`.
 //! - [`fitting`]: `fit`, one seeded fit with any algorithm (`harness::fit`).
@@ -12,6 +13,7 @@
 
 use pyo3::prelude::*;
 
+pub mod algorithm;
 pub mod data;
 pub mod experiment;
 pub mod fitting;
@@ -22,8 +24,15 @@ pub mod support;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // Before any spec is parsed: `kind = "python"` is a kind like the built-in ones.
+    algorithm::register();
     m.add("InputError", py.get_type::<support::InputError>())?;
     m.add("RunError", py.get_type::<support::RunError>())?;
+    m.add(
+        "BudgetExhausted",
+        py.get_type::<algorithm::BudgetExhausted>(),
+    )?;
+    m.add_class::<algorithm::Problem>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<data::PyDataSet>()?;
     m.add_class::<model::PyModel>()?;

@@ -38,6 +38,7 @@ def cli():
             raise AssertionError(f"brdf-sls {' '.join(map(str, args))} failed ({p.returncode}): {p.stderr}")
         return p
 
+    run.binary = binary
     return run
 
 

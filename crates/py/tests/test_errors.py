@@ -67,7 +67,12 @@ def test_bad_fit_arguments_same_message_as_cli(cli, krylon, flags, kwargs):
     algorithm = kwargs.pop("algorithm", "aed")
     with pytest.raises(bs.InputError) as e:
         bs.fit(data, algorithm, **kwargs)
-    assert str(e.value) == python_words(cli_error(p))
+    want = python_words(cli_error(p))
+    if algorithm == "nope":
+        # The package knows one kind more than the command line: its algorithms in Python.
+        assert want.endswith("`asa`")
+        want += ", `python`"
+    assert str(e.value) == want
     assert "--" not in str(e.value), "a Python error names no command-line flag"
 
 

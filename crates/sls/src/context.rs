@@ -418,6 +418,14 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         rmse
     }
 
+    /// Whether `x` is a finite point of the box, of the right length.
+    fn in_box(&self, x: &[f64]) -> bool {
+        x.len() == self.objective.dim()
+            && x.iter()
+                .zip(self.objective.lower().iter().zip(self.objective.upper()))
+                .all(|(&v, (&lo, &hi))| v.is_finite() && lo <= v && v <= hi)
+    }
+
     fn is_known(&self, x: &[f64]) -> bool {
         self.known_rmse.is_some()
             && x.iter()
@@ -596,6 +604,49 @@ impl<O: Objective> Search for TrialContext<'_, O> {
         Ok(descent)
     }
 
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> Result<bool, Stop> {
+        let n = self.objective.sample_count();
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        if !self.in_box(x) || r.len() != n {
+            return Ok(false);
+        }
+        // The same unit as a descent's residual evaluation over the full data.
+        self.meter.charge(Kind::Residual, n)?;
+        self.objective
+            .select(&mut self.work, Rows::Full, &mut self.rng);
+        if !self.objective.residuals(&mut self.work, x, r) {
+            return Ok(false);
+        }
+        let sum: f64 = r.iter().map(|v| v * v).sum();
+        let rmse = (sum / n as f64).sqrt();
+        if rmse.is_finite() {
+            // As after a full-data descent: an evaluation of this `x` next costs nothing.
+            self.remember(x, Known::Exact(rmse));
+        }
+        Ok(true)
+    }
+
+    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> Result<bool, Stop> {
+        let n = self.objective.sample_count();
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        if !self.in_box(x) || jac.len() != n * self.objective.dim() {
+            return Ok(false);
+        }
+        // One Jacobian row per sample, as in a descent.
+        self.meter.charge(Kind::Jacobian, n)?;
+        self.objective
+            .select(&mut self.work, Rows::Full, &mut self.rng);
+        Ok(self.objective.jacobian(&mut self.work, x, jac))
+    }
+
+    fn check_budget(&mut self) -> Result<(), Stop> {
+        self.meter.poll_clock()
+    }
+
     fn count(&mut self, name: &'static str) {
         match self.counters.iter_mut().find(|(n, _)| *n == name) {
             Some((_, v)) => *v += 1,
@@ -670,203 +721,4 @@ pub fn run_trial_with<O: Objective>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::DsConfig;
-    use crate::objective::toy::Toy;
-
-    fn ds() -> AlgorithmConfig {
-        AlgorithmConfig::new(DsConfig::default())
-    }
-
-    #[test]
-    fn ds_reaches_the_target_on_a_toy_fit() {
-        let toy = Toy::new(200, 0.0, 1);
-        let budget = Budget {
-            cpu_seconds: Some(10.0),
-            sample_evaluations: None,
-        };
-        let r = run_trial(&toy, &ds(), 7, budget, 1e-3);
-        assert_eq!(r.stop, StopReason::Target, "{r:?}");
-        assert!(r.best_rmse <= 1e-3);
-        assert_eq!(r.reached_at, Some(r.ended_at));
-        assert_eq!(r.first_reaching(1e-3), r.reached_at);
-        // Every DS evaluation is a full-data RMSE of 200 rows.
-        let c = r.ended_at.evaluations;
-        assert_eq!(c.residual_rows + c.jacobian_rows, 0);
-        assert_eq!(c.rmse_rows % 200, 0);
-    }
-
-    #[test]
-    fn a_raised_interrupt_stops_the_trial_and_a_lowered_one_changes_nothing() {
-        let toy = Toy::new(100, 0.05, 2);
-        let budget = Budget {
-            cpu_seconds: None,
-            sample_evaluations: Some(200_000),
-        };
-        let raised = Arc::new(AtomicBool::new(true));
-        let r = run_trial_interruptible(&toy, &ds(), 11, budget, 0.0, Some(raised));
-        assert_eq!(r.stop, StopReason::Interrupted);
-        assert_eq!(r.ended_at.evaluations.total(), 0);
-        let lowered = Arc::new(AtomicBool::new(false));
-        let a = run_trial_interruptible(&toy, &ds(), 11, budget, 0.0, Some(lowered));
-        let b = run_trial(&toy, &ds(), 11, budget, 0.0);
-        assert_eq!(a.without_clock(), b.without_clock());
-    }
-
-    #[test]
-    fn same_seed_same_trial_different_seed_different_trial() {
-        let toy = Toy::new(100, 0.05, 2);
-        let budget = Budget {
-            cpu_seconds: None,
-            sample_evaluations: Some(200_000),
-        };
-        let a = run_trial(&toy, &ds(), 11, budget, 0.0).without_clock();
-        let b = run_trial(&toy, &ds(), 11, budget, 0.0).without_clock();
-        let c = run_trial(&toy, &ds(), 12, budget, 0.0).without_clock();
-        assert_eq!(a, b);
-        assert_ne!(a.best_x, c.best_x);
-        assert_eq!(a.stop, StopReason::EvaluationBudget);
-    }
-
-    #[test]
-    fn evaluation_budget_is_never_exceeded_and_trace_is_monotone() {
-        let toy = Toy::new(100, 0.05, 3);
-        let budget = Budget {
-            cpu_seconds: None,
-            sample_evaluations: Some(123_456),
-        };
-        let r = run_trial(&toy, &ds(), 5, budget, 0.0);
-        assert_eq!(r.stop, StopReason::EvaluationBudget);
-        let total = r.ended_at.evaluations.total();
-        assert!(total <= 123_456 && total > 123_456 - 100, "{total}");
-        assert!(r.reached_at.is_none());
-        assert!(!r.trace.is_empty());
-        for w in r.trace.windows(2) {
-            assert!(w[1].rmse < w[0].rmse);
-            assert!(w[1].at.evaluations.total() >= w[0].at.evaluations.total());
-            assert!(w[1].at.cpu_seconds >= w[0].at.cpu_seconds);
-        }
-        assert_eq!(r.trace.last().map(|p| p.rmse), Some(r.best_rmse));
-    }
-
-    #[test]
-    fn cpu_budget_stops_promptly() {
-        let toy = Toy::new(2000, 0.05, 4);
-        let cutoff = 0.05;
-        let budget = Budget {
-            cpu_seconds: Some(cutoff),
-            sample_evaluations: None,
-        };
-        let r = run_trial(&toy, &ds(), 9, budget, 0.0);
-        assert_eq!(r.stop, StopReason::CpuBudget);
-        let overshoot = r.ended_at.cpu_seconds - cutoff;
-        // One clock-check interval is a few thousand rows: well under a millisecond even at
-        // opt-level 1; allow 5 ms for a loaded machine.
-        assert!((0.0..0.005).contains(&overshoot), "overshoot {overshoot} s");
-    }
-
-    /// The toy with every evaluation burning about `ms` of CPU: many expensive calls between
-    /// clock reads (the old check read the clock every 64 calls, here 64 x 3 ms = 0.19 s).
-    struct SlowToy {
-        toy: Toy,
-        ms: f64,
-    }
-
-    impl SlowToy {
-        fn burn(&self) {
-            let t = ThreadTime::now();
-            while t.elapsed().as_secs_f64() < self.ms * 1e-3 {
-                std::hint::spin_loop();
-            }
-        }
-    }
-
-    impl Objective for SlowToy {
-        type Workspace = <Toy as Objective>::Workspace;
-        fn workspace(&self) -> Self::Workspace {
-            self.toy.workspace()
-        }
-        fn dim(&self) -> usize {
-            self.toy.dim()
-        }
-        fn lower(&self) -> &[f64] {
-            self.toy.lower()
-        }
-        fn upper(&self) -> &[f64] {
-            self.toy.upper()
-        }
-        fn sample_count(&self) -> usize {
-            self.toy.sample_count()
-        }
-        fn rmse(&self, ws: &mut Self::Workspace, x: &[f64]) -> f64 {
-            self.burn();
-            self.toy.rmse(ws, x)
-        }
-        fn select(&self, ws: &mut Self::Workspace, rows: Rows, rng: &mut SearchRng) -> usize {
-            self.toy.select(ws, rows, rng)
-        }
-        fn residuals(&self, ws: &mut Self::Workspace, x: &[f64], r: &mut [f64]) -> bool {
-            self.burn();
-            self.toy.residuals(ws, x, r)
-        }
-        fn jacobian(&self, ws: &mut Self::Workspace, x: &[f64], jac: &mut [f64]) -> bool {
-            self.burn();
-            self.toy.jacobian(ws, x, jac)
-        }
-    }
-
-    #[test]
-    fn cpu_budget_holds_when_every_call_is_expensive() {
-        let slow = SlowToy {
-            toy: Toy::new(30, 0.05, 4),
-            ms: 3.0,
-        };
-        let cutoff = 0.05;
-        let budget = Budget {
-            cpu_seconds: Some(cutoff),
-            sample_evaluations: None,
-        };
-        for name in ["rpls", "aed", "ds"] {
-            let config = AlgorithmConfig::default_for(name).unwrap();
-            let r = run_trial(&slow, &config, 3, budget, 0.0);
-            assert_eq!(r.stop, StopReason::CpuBudget);
-            let overshoot = r.ended_at.cpu_seconds - cutoff;
-            // At most the call in progress at the cutoff (3 ms) plus the solver's own work;
-            // 15 ms leaves room for a loaded machine.
-            assert!(
-                (0.0..0.015).contains(&overshoot),
-                "{name}: overshoot {overshoot} s"
-            );
-        }
-    }
-
-    #[test]
-    fn unchanged_candidates_are_not_re_evaluated() {
-        let toy = Toy::new(50, 0.0, 5);
-        let mut ctx = TrialContext::new(&toy, 1, Budget::default(), 0.0);
-        let x = [1.0, 1.0, 0.0];
-        let a = ctx.evaluate(&x).unwrap();
-        let b = ctx.evaluate(&x).unwrap();
-        assert_eq!(a.to_bits(), b.to_bits());
-        assert_eq!(ctx.counts().rmse_rows, 50);
-        ctx.evaluate(&[1.0, 1.0, 0.1]).unwrap();
-        assert_eq!(ctx.counts().rmse_rows, 100);
-        let r = ctx.finish(Ok(()));
-        assert_eq!(r.stop, StopReason::Finished);
-        assert!(r.counters.contains(&("rmse_reused".to_string(), 1)));
-    }
-
-    #[test]
-    fn invalid_configuration_ends_the_trial_at_once() {
-        let toy = Toy::new(50, 0.0, 5);
-        let bad = AlgorithmConfig::new(DsConfig {
-            rtol: -1.0,
-            ..DsConfig::default()
-        });
-        assert_eq!(bad.validate().unwrap_err().field, "rtol");
-        let r = run_trial(&toy, &bad, 1, Budget::default(), 0.0);
-        assert_eq!(r.stop, StopReason::Finished);
-        assert_eq!(r.ended_at.evaluations.total(), 0);
-    }
-}
+mod tests;

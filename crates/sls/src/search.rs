@@ -128,6 +128,31 @@ pub trait Search {
         rows: Rows,
         limits: DescentLimits,
     ) -> Result<Descent, Stop>;
+    /// Residuals `model_i(x) - y_i` of `x` over the full data set into `r` (length
+    /// [`Search::sample_count`]), charged as one residual row per sample, as a descent's
+    /// residual evaluation. `Ok(false)` when they cannot be computed (e.g. `d^n` overflows), or
+    /// when `x` is not a finite point of the box (callers that take points from outside, such
+    /// as the Python binding, check them first to say what was wrong). The default (for test
+    /// fakes) computes nothing and returns `Ok(false)`.
+    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> Result<bool, Stop> {
+        let _ = (x, r);
+        Ok(false)
+    }
+    /// Column-major Jacobian of the residuals (`jac[j * m + i] = d r_i / d x_j`, `m` the
+    /// [`Search::sample_count`]) at `x` over the full data set, charged as one Jacobian row
+    /// per sample, as a descent's Jacobian evaluation. `Ok(false)` as for
+    /// [`Search::residuals`]; the default computes nothing and returns `Ok(false)`.
+    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> Result<bool, Stop> {
+        let _ = (x, jac);
+        Ok(false)
+    }
+    /// Fails with the trial's stop once the CPU budget is spent, the trial was interrupted or
+    /// an earlier call stopped it; costs no evaluation. For algorithms that work a while
+    /// between evaluations (the Python binding calls it on every method). The default never
+    /// stops.
+    fn check_budget(&mut self) -> Result<(), Stop> {
+        Ok(())
+    }
     /// Adds one to the algorithm-specific counter `name` (reported in
     /// [`crate::TrialResult::counters`]).
     fn count(&mut self, name: &'static str);

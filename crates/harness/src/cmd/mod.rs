@@ -15,6 +15,7 @@ mod export;
 mod fit;
 mod merge;
 mod polar;
+mod python;
 mod render;
 mod report;
 mod results;
@@ -53,6 +54,11 @@ pub fn main() -> std::process::ExitCode {
 
 /// Runs one command.
 pub fn dispatch(command: Command) -> anyhow::Result<()> {
+    if reads_only(&command) {
+        // Specs and results with algorithms written in Python are read like any other; only
+        // running them needs Python (`run` hands them to it).
+        crate::python_kind::register_read_only();
+    }
     match command {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::check(a),
@@ -76,6 +82,20 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Completions(a) => completions::completions(a),
         Command::Man(a) => completions::man(a),
     }
+}
+
+/// Whether `command` only reads specs and results, running no trial.
+fn reads_only(command: &Command) -> bool {
+    matches!(
+        command,
+        Command::Check(_)
+            | Command::Plot(_)
+            | Command::Stats(_)
+            | Command::Export(_)
+            | Command::Merge(_)
+            | Command::Report(_)
+            | Command::Compare(_)
+    )
 }
 
 /// Bad input from the user (flags, a spec, a data file): exit status 2.

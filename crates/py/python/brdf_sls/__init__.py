@@ -10,6 +10,8 @@ Everything runs in the Rust crates of the brdf-sls workspace (the extension modu
 - :func:`run`: run or resume an experiment spec (as ``brdf-sls run``).
 - :func:`read_results`: a results folder as records (trials, traces, statistics).
 - :func:`rmse`: the RMSE of given parameters (as ``brdf-sls eval``).
+- :class:`Problem` and :class:`BudgetExhausted`: what a search algorithm written in Python
+  receives (``kind = "python"`` in an experiment file; see docs/own-algorithm.md).
 
 Errors are :class:`InputError` (a ``ValueError``: bad input) or :class:`RunError` (a
 ``RuntimeError``: a failure while running), with the command line's messages. Long calls
@@ -17,9 +19,11 @@ release the GIL and stop on Ctrl-C with ``KeyboardInterrupt``.
 """
 
 from ._native import (
+    BudgetExhausted,
     DataSet,
     InputError,
     Model,
+    Problem,
     RunError,
     __version__,
     fit,
@@ -30,9 +34,11 @@ from ._native import (
 from .results import Results, read_results
 
 __all__ = [
+    "BudgetExhausted",
     "DataSet",
     "InputError",
     "Model",
+    "Problem",
     "Results",
     "RunError",
     "__version__",
