@@ -25,7 +25,8 @@ if [[ ! -x "$venv/bin/python" ]]; then
 fi
 vpy="$venv/bin/python"
 "$vpy" -m pip install --quiet --disable-pip-version-check \
-    'maturin>=1.7,<2' 'numpy>=2,<3' 'pandas>=2,<3' 'pytest>=8,<9' 'matplotlib>=3.8,<4'
+    'maturin>=1.7,<2' 'numpy>=2,<3' 'pandas>=2,<3' 'pytest>=8,<9' 'matplotlib>=3.8,<4' \
+    'scipy>=1.11,<2' 'cma>=3.2,<5'
 
 section "the command line the tests compare with"
 cargo build --release --locked --bin brdf-sls

@@ -134,10 +134,12 @@ def cma_es(problem, sigma0=0.3, popsize=0, ipop=True):
     size = popsize or int(4 + 3 * np.log(problem.dim))
     while True:
         start = (problem.random_pick() - lo) / np.where(width > 0, width, 1.0)
+        # cma draws from numpy's global generator unless given `randn`; Python trials
+        # interleave on threads, so the trial's own generator keeps each path its own.
         options = {
             "bounds": [0.0, 1.0],
             "popsize": size,
-            "seed": int(problem.rng.integers(1, 2**31 - 1)),
+            "randn": lambda *shape: problem.rng.standard_normal(shape),
             "verbose": -9,
         }
         es = cma.CMAEvolutionStrategy(start, sigma0, options)
