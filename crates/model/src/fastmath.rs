@@ -145,7 +145,9 @@ fn pow2i(k: f64) -> f64 {
 /// through the lobe kernels' products, so they never compute with subnormals. Each operation
 /// that makes or reads a subnormal costs a microcode assist of about a hundred cycles on Intel
 /// cores: with gradual underflow, RPLS in raw n (where `d^n` with `n` in the thousands
-/// underflows at most samples) cost 10 instead of 5 ns per sample-evaluation. A lobe value
+/// underflows at most samples) took 9.7 ns per sample-evaluation, with the flush 5.5 to 5.7
+/// (medians of three alternated 40-trial runs, Intel Xeon with AVX-512, 2026-12-03; the
+/// whole record is in docs/performance.md). A lobe value
 /// below `2^-1010` changes no residual's bits beside a data value of normal size; the Jacobian
 /// entries computed from it become 0: a dead lobe's (which were below 1e-304 or so), and
 /// `n d^(n-1)` at the very edge of a lobe (`d` below 1e-304 with `n` near 1), where the
