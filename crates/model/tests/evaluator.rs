@@ -316,9 +316,14 @@ fn d_to_zero_from_above_is_finite() {
                 );
                 // The Cz column is n d^(n-1) (cz enters d with weight uz vz = 1).
                 let dcz = if n == 0.0 { 0.0 } else { n * cz.powf(n - 1.0) };
+                // The vector kernels flush d^n below 2^-1010 to 0 (no subnormal arithmetic),
+                // and with it n d^n / d: where d itself is that small (the lobe's edge), the
+                // Cz column may be 0.
+                let flushed = n != 0.0 && expect < 1e-303;
                 if ok {
                     assert!(
-                        (jac[2] - dcz).abs() <= 1e-10 * dcz.abs() + 1e-290,
+                        (jac[2] - dcz).abs() <= 1e-10 * dcz.abs() + 1e-290
+                            || (flushed && jac[2] == 0.0),
                         "{jac:?} {dcz}"
                     );
                 } else {

@@ -33,6 +33,11 @@ pub const K_D: f64 = 8.0;
 pub const K_L: f64 = 4.0;
 /// Absolute floor of every bound: values below 1e-300 cannot influence a fit.
 pub const FLOOR: f64 = 1e-300;
+/// The vector kernels give `d^n = 0` below about `2^-1010` (brdf-model's `EXP_FLUSH_K`: no
+/// subnormal arithmetic), and with it every derivative computed from it: `n d^n / d` and
+/// `d^n ln d` may then be 0 however large `1/d` makes them. Below this reference `d^n` (a
+/// margin of one binade for the kernel's own error) a zero entry is allowed.
+pub const FLUSHED_BELOW: f64 = 1.4e-304;
 const EPS: f64 = f64::EPSILON;
 
 /// What a Jacobian column differentiates.
@@ -263,7 +268,7 @@ impl Reference {
                         let allow =
                             at.f * lb.scale * (f_rel * ld + EPS * (2.0 * ld + K_D * at.a / at.d))
                                 + FLOOR * lb.scale;
-                        (at.h, allow)
+                        (at.h, flushed_allowance(at.f, at.h, allow))
                     }
                 }
                 Role::Cx(k) | Role::Cy(k) | Role::Cxy(k) | Role::Cz(k) | Role::Pan(k) => {
@@ -286,7 +291,7 @@ impl Reference {
                         let g_rel =
                             EPS * (K_EXP + K_D * (n + 1.0) * at.a / at.d + K_L * at.l.abs());
                         let allow = at.g.abs() * (g_rel * w.abs() + K_D * EPS * aw) + FLOOR;
-                        (at.g * w, allow)
+                        (at.g * w, flushed_allowance(at.f, at.g * w, allow))
                     }
                 }
             };
@@ -294,6 +299,16 @@ impl Reference {
             allowed[j] = allow;
         }
         out
+    }
+}
+
+/// `allow`, or at least `2 |val|` (so that 0 passes with a margin) where the kernels flush
+/// `f = d^n` to 0 ([`FLUSHED_BELOW`]).
+fn flushed_allowance(f: f64, val: f64, allow: f64) -> f64 {
+    if f < FLUSHED_BELOW {
+        allow.max(2.0 * val.abs() + FLOOR)
+    } else {
+        allow
     }
 }
 

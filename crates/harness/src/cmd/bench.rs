@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use brdf_model::{Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
+use brdf_model::{Evaluator, ExponentCoord, Kernel, Layout, LobeKind, named_params, synthetic};
 use cpu_time::ThreadTime;
 use serde::Serialize;
 
@@ -40,12 +40,28 @@ struct KernelRow {
 #[derive(Serialize)]
 struct SearchRow {
     instance: String,
+    /// The descent's exponent coordinate, `log1p` or `raw n` (starts uniform in it).
+    coordinate: String,
     algorithm: String,
     reached: usize,
     trials: usize,
     median_cpu_ms: Option<f64>,
     median_evaluations: Option<f64>,
     median_evaluations_computed: Option<f64>,
+    /// Median over all trials (censored ones too) of CPU nanoseconds per computed
+    /// sample-evaluation, at the trial's end: what a search pays per model value.
+    ns_per_sample_evaluation: Option<f64>,
+}
+
+/// One of the speed goals of issue 38, with its measured value.
+#[derive(Serialize)]
+struct Goal {
+    goal: String,
+    /// The measured value (`None`: the row it needs has no median).
+    measured: Option<f64>,
+    limit: f64,
+    unit: String,
+    met: bool,
 }
 
 #[derive(Serialize)]
@@ -56,6 +72,7 @@ struct BenchReport {
     flops_per_value: f64,
     kernels: Vec<KernelRow>,
     searches: Vec<SearchRow>,
+    goals: Vec<Goal>,
     seeds: u64,
     cutoff_cpu_seconds: f64,
     /// Load averages (1, 5, 15 minutes) from /proc/loadavg before and after the measurements
@@ -130,6 +147,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         a.cutoff
     );
     let searches = search_rows(a.seeds, a.cutoff, a.progress)?;
+    let goals = goals(&kernels, &searches);
     let load_after = load_average();
     if let Some(w) = load_warning("after", load_after, cores) {
         note!("{w}");
@@ -142,6 +160,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         flops_per_value: FLOPS_PER_VALUE,
         kernels,
         searches,
+        goals,
         seeds: a.seeds,
         cutoff_cpu_seconds: a.cutoff,
         load_before,
@@ -261,17 +280,35 @@ fn kernel_rows(peak: f64) -> Result<Vec<KernelRow>> {
         .collect())
 }
 
-/// The instances of the search rows and their targets.
-const SEARCH_INSTANCES: [(&str, f64); 2] = [("tuning", 0.11), ("cross", 0.1)];
-/// The algorithms of the search rows.
-const SEARCH_ALGORITHMS: [&str; 3] = ["aed", "aers", "rpls"];
+/// The search rows: instance, target, the exponent coordinate (starts uniform in it: log-uniform
+/// in `n` with log1p, uniform in `n` with raw n, the paper's) and the algorithms.
+const SEARCHES: [(&str, f64, ExponentCoord, &[&str]); 3] = [
+    (
+        "tuning",
+        0.11,
+        ExponentCoord::Log1p,
+        &["aed", "aers", "rpls"],
+    ),
+    ("cross", 0.1, ExponentCoord::Log1p, &["aed", "aers", "rpls"]),
+    ("tuning", 0.11, ExponentCoord::Raw, &["aed", "rpls"]),
+];
 
-/// AED, AERS and RPLS on T2 (target 0.11) and T3 (cross, target 0.1), the paper's defaults,
-/// one trial at a time on this thread (CPU times are per thread), with progress.
+fn coord_name(c: ExponentCoord) -> &'static str {
+    match c {
+        ExponentCoord::Log1p => "log1p",
+        ExponentCoord::Raw => "raw n",
+    }
+}
+
+/// The searches of [`SEARCHES`] with the paper's defaults, one trial at a time on this thread
+/// (CPU times are per thread), with progress.
 fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<SearchRow>> {
-    let labels: Vec<String> = SEARCH_INSTANCES
+    let labels: Vec<String> = SEARCHES
         .iter()
-        .flat_map(|(i, _)| SEARCH_ALGORITHMS.map(|k| format!("{i} {}", k.to_uppercase())))
+        .flat_map(|(i, _, c, algs)| {
+            algs.iter()
+                .map(move |k| format!("{i} {} {}", coord_name(*c), k.to_uppercase()))
+        })
         .collect();
     let zeros = vec![0; labels.len()];
     let progress = Progress::new(
@@ -282,13 +319,13 @@ fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<Se
         &zeros,
     );
     let mut rows = Vec::new();
-    for (instance, target) in SEARCH_INSTANCES {
+    for (instance, target, coord, algorithms) in SEARCHES {
         let params = named_params(instance).context("named parameters")?;
         let data = Arc::new(brdf_model::try_synthetic(&params, 10_000, 0.1, 1)?);
         let kinds = vec![LobeKind::Anisotropic; params.lobes.len()];
-        let layout = Layout::builder(&kinds).build()?;
+        let layout = Layout::builder(&kinds).exponent_coord(coord).build()?;
         let objective = sls::BrdfObjective::new(data, layout);
-        for kind in SEARCH_ALGORITHMS {
+        for kind in algorithms {
             let row = rows.len();
             let config = sls::AlgorithmConfig::default_for(kind).context("algorithm")?;
             let budget = sls::Budget {
@@ -308,8 +345,17 @@ fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<Se
                 // Censored runs count as +inf: the median exists when half reached.
                 (2 * v.len() > results.len()).then(|| v[(results.len() - 1) / 2])
             };
+            let mut per_eval: Vec<f64> = results
+                .iter()
+                .filter(|r| r.ended_at.evaluations.total_computed() > 0)
+                .map(|r| {
+                    r.ended_at.cpu_seconds * 1e9 / r.ended_at.evaluations.total_computed() as f64
+                })
+                .collect();
+            per_eval.sort_by(f64::total_cmp);
             rows.push(SearchRow {
                 instance: instance.to_string(),
+                coordinate: coord_name(coord).to_string(),
                 algorithm: kind.to_uppercase(),
                 reached: reached.len(),
                 trials: results.len(),
@@ -326,11 +372,82 @@ fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<Se
                         .map(|s| s.evaluations.total_computed() as f64)
                         .collect(),
                 ),
+                ns_per_sample_evaluation: (!per_eval.is_empty())
+                    .then(|| per_eval[(per_eval.len() - 1) / 2]),
             });
         }
     }
     progress.finish();
     Ok(rows)
+}
+
+/// The goals of issue 38 against `searches` and the fastest kernel's values + Jacobian cost
+/// (one lobe, as the tuning instance has). A goal whose row has no median is missed.
+fn goals(kernels: &[KernelRow], searches: &[SearchRow]) -> Vec<Goal> {
+    let find = |coord: &str, alg: &str| {
+        searches
+            .iter()
+            .find(|r| r.instance == "tuning" && r.coordinate == coord && r.algorithm == alg)
+    };
+    let aed = |coord| find(coord, "AED").and_then(|r| r.median_cpu_ms);
+    let rpls = |coord| find(coord, "RPLS").and_then(|r| r.ns_per_sample_evaluation);
+    let best = Kernel::best().to_string();
+    let jacobian = kernels
+        .iter()
+        .find(|k| k.kernel == best)
+        .map_or(f64::NAN, |k| k.jacobian_ns);
+    let goal = |goal: String, measured: Option<f64>, limit: f64, unit: &str| Goal {
+        met: measured.is_some_and(|m| m <= limit),
+        goal,
+        measured,
+        limit,
+        unit: unit.into(),
+    };
+    let rpls_log = rpls("log1p");
+    vec![
+        goal(
+            "AED on T2, log1p: median CPU to target".into(),
+            aed("log1p"),
+            0.3,
+            "ms",
+        ),
+        goal(
+            "AED on T2, raw n (uniform starts): median CPU to target".into(),
+            aed("raw n"),
+            2.5,
+            "ms",
+        ),
+        goal(
+            "RPLS on T2, log1p: ns per sample-evaluation".into(),
+            rpls_log,
+            3.0,
+            "ns",
+        ),
+        goal(
+            "RPLS on T2, raw n: ns per sample-evaluation, at most log1p's".into(),
+            rpls("raw n"),
+            rpls_log.unwrap_or(f64::NAN),
+            "ns",
+        ),
+        goal(
+            format!(
+                "RPLS on T2, log1p: ns per sample-evaluation within 1.5x the {best} kernel's \
+                 values + Jacobian"
+            ),
+            rpls_log,
+            1.5 * jacobian,
+            "ns",
+        ),
+        goal(
+            format!(
+                "RPLS on T2, raw n: ns per sample-evaluation within 1.5x the {best} kernel's \
+                 values + Jacobian"
+            ),
+            rpls("raw n"),
+            1.5 * jacobian,
+            "ns",
+        ),
+    ]
 }
 
 fn opt(v: Option<f64>, digits: usize) -> String {
@@ -357,24 +474,39 @@ fn markdown(r: &BenchReport) -> String {
         ));
     }
     s.push_str(&format!(
-        "\nSearches: paper defaults, log1p exponent coordinate with log-uniform starts, 10000 \
-         samples with noise 0.1 (instance seed 1), {} seeds, CPU cutoff {} s; medians over all \
-         trials (censored = +inf). Evaluations in the paper's count (whole full-data RMSEs) and as \
-         computed (full-data checks stopped early).\n\n\
-         | instance | algorithm | reached | median CPU ms | median evaluations | median computed |\n\
-         |---|---|---|---|---|---|\n",
+        "\nSearches: paper defaults, starts uniform in the exponent coordinate (log-uniform in n \
+         with log1p, uniform in n with raw n), 10000 samples with noise 0.1 (instance seed 1), {} \
+         seeds, CPU cutoff {} s; medians over all trials (censored = +inf). Sample-evaluations in \
+         the paper's count (whole full-data RMSEs) and as computed (full-data checks stopped \
+         early); ns per sample-evaluation is the median over all trials of CPU time over computed \
+         sample-evaluations at the trial's end.\n\n\
+         | instance | coordinate | algorithm | reached | median CPU ms | median evaluations | median computed | ns per sample-evaluation |\n\
+         |---|---|---|---|---|---|---|---|\n",
         r.seeds, r.cutoff_cpu_seconds
     ));
     for x in &r.searches {
         s.push_str(&format!(
-            "| {} | {} | {}/{} | {} | {} | {} |\n",
+            "| {} | {} | {} | {}/{} | {} | {} | {} | {} |\n",
             x.instance,
+            x.coordinate,
             x.algorithm,
             x.reached,
             x.trials,
             opt(x.median_cpu_ms, 3),
             opt(x.median_evaluations, 0),
-            opt(x.median_evaluations_computed, 0)
+            opt(x.median_evaluations_computed, 0),
+            opt(x.ns_per_sample_evaluation, 2)
+        ));
+    }
+    s.push_str("\n| goal | measured | limit | met |\n|---|---|---|---|\n");
+    for g in &r.goals {
+        s.push_str(&format!(
+            "| {} | {} | {:.2} {} | {} |\n",
+            g.goal,
+            opt(g.measured, 3).to_string() + " " + &g.unit,
+            g.limit,
+            g.unit,
+            if g.met { "yes" } else { "**no**" }
         ));
     }
     let load = |l: Option<[f64; 3]>| {
@@ -450,10 +582,12 @@ fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u6
     let mut s = para(
         "",
         &format!(
-            "Paper defaults, log1p exponent coordinate with log-uniform starts, 10000 samples \
-             with noise 0.1 (instance seed 1), {} seeds, CPU cutoff {} s; medians over all \
-             trials (censored = +inf). Evaluations in the paper's count (whole full-data RMSEs) \
-             and as computed (full-data checks stopped early).",
+            "Paper defaults, starts uniform in the exponent coordinate (log-uniform in n with \
+             log1p, uniform in n with raw n), 10000 samples with noise 0.1 (instance seed 1), {} \
+             seeds, CPU cutoff {} s; medians over all trials (censored = +inf). \
+             Sample-evaluations in the paper's count (whole full-data RMSEs) and as computed \
+             (full-data checks stopped early); ns per sample-evaluation is the median over all \
+             trials of CPU time over computed sample-evaluations at the trial's end.",
             r.seeds, r.cutoff_cpu_seconds
         ),
     );
@@ -469,11 +603,13 @@ fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u6
             };
             vec![
                 escape(&x.instance),
+                escape(&x.coordinate),
                 escape(&x.algorithm),
                 reached,
                 opt(x.median_cpu_ms, 3),
                 opt(x.median_evaluations, 0),
                 opt(x.median_evaluations_computed, 0),
+                opt(x.ns_per_sample_evaluation, 2),
             ]
         })
         .collect();
@@ -481,15 +617,39 @@ fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u6
         "searches",
         &[
             "instance",
+            "coordinate",
             "algorithm",
             "reached",
             "median CPU ms",
             "median evaluations",
             "median computed",
+            "ns per sample-evaluation",
         ],
         &rows,
     ));
     body.push_str(&section("searches", 2, "Searches", &s));
+    let rows: Vec<Vec<String>> = r
+        .goals
+        .iter()
+        .map(|g| {
+            vec![
+                escape(&g.goal),
+                format!("{} {}", opt(g.measured, 3), escape(&g.unit)),
+                format!("{:.2} {}", g.limit, escape(&g.unit)),
+                if g.met {
+                    "yes".into()
+                } else {
+                    "<span class=\"fail\">no</span>".into()
+                },
+            ]
+        })
+        .collect();
+    body.push_str(&section(
+        "goals",
+        2,
+        "Goals",
+        &table("goals", &["goal", "measured", "limit", "met"], &rows),
+    ));
     document(title, &body)
 }
 
@@ -514,20 +674,23 @@ mod tests {
                     values_share_of_peak: 0.5,
                 })
                 .into(),
-            searches: SEARCH_INSTANCES
+            searches: SEARCHES
                 .iter()
-                .flat_map(|(i, _)| {
-                    SEARCH_ALGORITHMS.map(|a| SearchRow {
+                .flat_map(|(i, _, c, algs)| {
+                    algs.iter().map(|a| SearchRow {
                         instance: i.to_string(),
+                        coordinate: coord_name(*c).into(),
                         algorithm: a.to_uppercase(),
-                        reached: usize::from(a != "rpls"),
+                        reached: usize::from(*a != "rpls"),
                         trials: 1,
                         median_cpu_ms: Some(12.5),
                         median_evaluations: None,
                         median_evaluations_computed: Some(40.0),
+                        ns_per_sample_evaluation: Some(4.0),
                     })
                 })
                 .collect(),
+            goals: Vec::new(),
             seeds: 1,
             cutoff_cpu_seconds: 0.5,
             load_before: Some([0.5, 0.4, 0.3]),
@@ -535,6 +698,13 @@ mod tests {
             cores: 2,
             load_warnings: vec!["load <high>".into()],
         };
+        let mut r = r;
+        r.goals = goals(&r.kernels, &r.searches);
+        assert_eq!(r.goals.len(), 6);
+        // No row has the best kernel's name here, so the kernel goals are missed; AED's rows
+        // have 12.5 ms, above both AED limits; RPLS raw n equals log1p: met.
+        let met: Vec<bool> = r.goals.iter().map(|g| g.met).collect();
+        assert_eq!(met, [false, false, false, true, false, false]);
         let machine = crate::machine::MachineInfo::current(1);
         let html = page(&r, &machine, 0);
         crate::html::wellformed::check(&html).unwrap();
@@ -545,10 +715,13 @@ mod tests {
             assert!(html.contains(&row), "no row {row}");
         }
         for x in &r.searches {
-            let row = format!("<tr><td>{}</td><td>{}</td>", x.instance, x.algorithm);
+            let row = format!(
+                "<tr><td>{}</td><td>{}</td><td>{}</td>",
+                x.instance, x.coordinate, x.algorithm
+            );
             assert!(html.contains(&row), "no row {row}");
         }
-        assert_eq!(html.matches("<span class=\"fail\">0/1</span>").count(), 2);
+        assert_eq!(html.matches("<span class=\"fail\">0/1</span>").count(), 3);
     }
 
     #[test]
