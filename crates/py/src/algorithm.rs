@@ -11,8 +11,10 @@
 //!
 //! A budget stop (target reached, evaluations or CPU seconds spent) raises
 //! [`BudgetExhausted`] (a `BaseException`, so `except Exception` in the algorithm does not
-//! swallow it) and sets `problem.stopped`; every later call raises again. An algorithm that
-//! fails (raises, passes a point outside the box, returns something) ends its trial with
+//! swallow it) and sets `problem.stopped`; every later call raises again. One that loops
+//! without calling the problem past its CPU budget gets it from [`crate::watchdog`] and is
+//! recorded as cut at its CPU budget all the same. An algorithm that fails (raises, passes a
+//! point outside the box, returns something) ends its trial with
 //! [`sls::Stop::Interrupted`], which the harness never stores, and leaves the message for
 //! [`take_failure`] on the trial's thread.
 
@@ -37,8 +39,9 @@ create_exception!(
     BudgetExhausted,
     PyBaseException,
     "The trial is over: its target is reached or its budget (evaluations, CPU seconds) spent. \
-     Raised by every method of a Problem from then on. A BaseException, so that `except \
-     Exception` in an algorithm does not swallow it; let it propagate (or return)."
+     Raised by every method of a Problem from then on, and in the algorithm's thread by a \
+     watchdog once it runs past a CPU budget without calling them. A BaseException, so that \
+     `except Exception` in an algorithm does not swallow it; let it propagate (or return)."
 );
 
 /// An algorithm written in Python: `[[algorithm]] kind = "python"`, `entry =
@@ -77,6 +80,23 @@ impl Algorithm for PythonAlgorithm {
 thread_local! {
     /// Why the last Python algorithm on this thread failed; taken by the executor.
     static FAILURE: Cell<Option<String>> = const { Cell::new(None) };
+    /// The CPU budget of the trial running on this thread, for the watchdog: `run` sees only
+    /// the trial's `Search`, which does not tell it.
+    static CPU_CUTOFF: Cell<Option<f64>> = const { Cell::new(None) };
+}
+
+/// Runs `f` (which runs trials on this thread) with `cpu_seconds` as the CPU budget the
+/// watchdog enforces on Python algorithms that stop calling their problem (see
+/// [`crate::watchdog`]); without it, only the problem's methods notice the cutoff.
+pub fn with_cpu_cutoff<T>(cpu_seconds: Option<f64>, f: impl FnOnce() -> T) -> T {
+    struct Restore(Option<f64>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            CPU_CUTOFF.set(self.0);
+        }
+    }
+    let _restore = Restore(CPU_CUTOFF.replace(cpu_seconds));
+    f()
 }
 
 /// The message of the Python algorithm that failed last on this thread (its trial ended with
@@ -119,9 +139,19 @@ impl PythonAlgorithm {
             py,
             problem: problem.clone_ref(py),
         };
+        let mut watch = CPU_CUTOFF.get().and_then(crate::watchdog::Watch::start);
         let returned = function.call(py, (problem.clone_ref(py),), Some(&kwargs));
-        drop(live);
+        // Before any other bytecode runs on this thread (see crate::watchdog).
+        let fired = watch.as_mut().map_or(0, crate::watchdog::Watch::finish);
         let p = problem.borrow(py);
+        let raised_stop = matches!(&returned, Err(e) if e.is_instance_of::<BudgetExhausted>(py));
+        if lock(&p.stop).is_none() && (fired > 0 || raised_stop) {
+            // The watchdog's BudgetExhausted came from no problem method, so no stop is
+            // recorded: read the trial's clock, which records the CPU-budget stop as a method
+            // would have (the watchdog raises only after the budget is spent).
+            let _ = p.with(|_| Ok(()));
+        }
+        drop(live);
         if let Some(message) = lock(&p.failure).take() {
             return Err(message);
         }

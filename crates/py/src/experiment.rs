@@ -199,7 +199,9 @@ impl Executor for PyExecutor<'_> {
     }
 
     fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
-        let result = self.inner.run(trial, target, budget);
+        let result = crate::algorithm::with_cpu_cutoff(budget.cpu_seconds, || {
+            self.inner.run(trial, target, budget)
+        });
         if let Some(message) = crate::algorithm::take_failure() {
             let mut failures = self.failures();
             // Trials of the configuration that were in flight may fail too: the first says it.

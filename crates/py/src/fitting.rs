@@ -81,7 +81,9 @@ pub fn fit(
         surface: Surface::Python,
     };
     let (outcome, failure) = interruptible(py, |flag| {
-        let outcome = harness::fit::fit(data, &request, Some(flag));
+        let outcome = crate::algorithm::with_cpu_cutoff(Some(cpu_seconds), || {
+            harness::fit::fit(data, &request, Some(flag))
+        });
         // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
         (outcome, crate::algorithm::take_failure())
     })?;

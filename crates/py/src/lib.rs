@@ -7,6 +7,7 @@
 //! - [`fitting`]: `fit`, one seeded fit with any algorithm (`harness::fit`).
 //! - [`experiment`]: `run` an experiment spec, `read_results` of a results folder.
 //! - [`support`]: errors as Python exceptions, Ctrl-C, conversions.
+//! - [`watchdog`]: raises `BudgetExhausted` in a Python algorithm that runs past its CPU cutoff.
 //!
 //! The Python package `brdf_sls` (python/brdf_sls) re-exports these and turns results into
 //! pandas-friendly records.
@@ -19,6 +20,7 @@ pub mod experiment;
 pub mod fitting;
 pub mod model;
 pub mod support;
+pub mod watchdog;
 
 /// The extension module.
 #[pymodule]

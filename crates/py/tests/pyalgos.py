@@ -100,3 +100,35 @@ def keeps_problem(problem):
 
 
 not_callable = 42
+
+
+def runaway(problem):
+    """One evaluation, then pure Python forever without calling the problem: only the watchdog
+    (the CPU cutoff raised in its thread) ends it."""
+    problem.rmse(problem.random_pick())
+    while True:
+        x = sum(range(1000))  # noqa: F841
+
+
+def runaway_numpy(problem):
+    """`runaway` busy in numpy: many small operations, each returning to Python."""
+    problem.rmse(problem.random_pick())
+    a = problem.rng.random(1000)
+    while True:
+        a = np.sqrt(a * a + 1.0) - 0.5
+
+
+def swallows_twice(problem):
+    """Catches the watchdog's BudgetExhausted twice and loops on; the third ends it."""
+    problem.rmse(problem.random_pick())
+    caught = 0
+    while True:
+        try:
+            while True:
+                x = sum(range(1000))  # noqa: F841
+        except BudgetExhausted:
+            caught += 1
+            if caught == 3:
+                problem.count("caught")
+                raise
+            problem.count("caught")
