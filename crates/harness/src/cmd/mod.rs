@@ -54,9 +54,9 @@ pub fn main() -> std::process::ExitCode {
 
 /// Runs one command.
 pub fn dispatch(command: Command) -> anyhow::Result<()> {
-    if reads_only(&command) {
+    if reads_python_specs(&command) {
         // Specs and results with algorithms written in Python are read like any other; only
-        // running them needs Python (`run` hands them to it).
+        // running them needs Python (`run` reads the spec, then hands it to Python).
         crate::python_kind::register_read_only();
     }
     match command {
@@ -84,11 +84,13 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
     }
 }
 
-/// Whether `command` only reads specs and results, running no trial.
-fn reads_only(command: &Command) -> bool {
+/// Whether `command` reads specs or results that may name algorithms written in Python:
+/// those that run no trial, and `run`, which hands such a spec to Python.
+fn reads_python_specs(command: &Command) -> bool {
     matches!(
         command,
-        Command::Check(_)
+        Command::Run(_)
+            | Command::Check(_)
             | Command::Plot(_)
             | Command::Stats(_)
             | Command::Export(_)

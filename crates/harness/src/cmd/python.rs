@@ -10,29 +10,17 @@ use anyhow::Result;
 
 use super::input_error;
 use crate::cli::RunArgs;
+use crate::spec::Spec;
 
 /// The environment variable naming the interpreter (default `python3` on the `PATH`).
 const PYTHON_VAR: &str = "BRDF_SLS_PYTHON";
 
-/// Whether the spec at `path` has an `[[algorithm]]` with `kind = "python"`. A file that cannot
-/// be read or parsed says no: the ordinary path reports its errors. Read as the spec loader
-/// reads it, so a FIFO or a device is refused there, not waited on here.
-pub fn uses_python(path: &Path) -> bool {
-    crate::input_file::read_spec_text(path)
-        .ok()
-        .and_then(|text| text.parse::<toml::Table>().ok())
-        .is_some_and(|table| has_python_kind(&table))
-}
-
-fn has_python_kind(table: &toml::Table) -> bool {
-    table
-        .get("algorithm")
-        .and_then(toml::Value::as_array)
-        .is_some_and(|entries| {
-            entries
-                .iter()
-                .any(|e| e.get("kind").and_then(toml::Value::as_str) == Some("python"))
-        })
+/// Whether the spec has an algorithm of `kind = "python"` (read with the read-only kind that
+/// [`super::dispatch`] registers: checked for form, never run here).
+pub fn uses_python(spec: &Spec) -> bool {
+    spec.configurations
+        .iter()
+        .any(|c| c.algorithm.kind_name() == crate::python_kind::KIND)
 }
 
 /// Runs `python -m brdf_sls run` with the same flags and exits with its status, or fails with
@@ -108,19 +96,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn python_kinds_are_found_only_in_algorithm_entries() {
-        let yes: toml::Table =
-            "[[algorithm]]\nkind = \"aed\"\n[[algorithm]]\nkind = \"python\"\nentry = \"m:f\"\n"
-                .parse()
-                .unwrap();
-        assert!(has_python_kind(&yes));
-        for no in [
-            "[[algorithm]]\nkind = \"aed\"\n",
-            "name = \"python\"\n[[algorithm]]\nkind = \"rpls\"\n",
-            "kind = \"python\"\n",
-        ] {
-            assert!(!has_python_kind(&no.parse().unwrap()), "{no}");
-        }
-        assert!(!uses_python(Path::new("/nonexistent/spec.toml")));
+    fn python_kinds_are_found_among_the_configurations() {
+        crate::python_kind::register_read_only();
+        let spec = |algorithms: &str| {
+            let text = format!(
+                "name = \"t\"\nseed = 1\ntrials = 1\n[budget]\nevaluations = 1000\n[[instance]]\nname = \"i\"\n\
+                 targets = [0.1]\n[instance.synthetic]\nparams = \"tuning\"\nsamples = 50\n\
+                 {algorithms}"
+            );
+            Spec::parse(&text, "test", "t", std::path::Path::new(".")).unwrap()
+        };
+        let python = "[[algorithm]]\nkind = \"aed\"\n[[algorithm]]\nkind = \"python\"\n\
+                      entry = \"m:f\"\n";
+        assert!(uses_python(&spec(python)));
+        assert!(!uses_python(&spec("[[algorithm]]\nkind = \"aed\"\n")));
     }
 }

@@ -12,15 +12,15 @@ use crate::cli::RunArgs;
 /// `brdf-sls run`: checks the flags, [`prepare`]s (lock, one read of the results, each instance
 /// built once, best-known RMSEs), runs, then writes statistics and plots.
 pub fn run(a: RunArgs) -> Result<()> {
-    if let Some(p) = &a.spec
-        && super::python::uses_python(p)
-    {
-        return super::python::delegate_run(&a, p);
-    }
     let spec = match &a.spec {
         Some(p) => load_spec(p)?,
         None => Spec::default_experiment(),
     };
+    if let Some(p) = &a.spec
+        && super::python::uses_python(&spec)
+    {
+        return super::python::delegate_run(&a, p);
+    }
     let out = a.out.clone().unwrap_or_else(|| {
         let base = default_out(a.spec.as_deref());
         match a.shard {
