@@ -418,6 +418,23 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         rmse
     }
 
+    /// Admits a full-data residual or Jacobian evaluation at `x` for [`Search::residuals`] and
+    /// [`Search::jacobian`]: fails with the trial's stop; `Ok(false)` (nothing charged) when
+    /// `x` is not a finite point of the box or the output is not `sized`; else charges one
+    /// row of `kind` per sample, the unit of a descent's evaluations, and selects every row.
+    fn admit_full_data(&mut self, kind: Kind, x: &[f64], sized: bool) -> Result<bool, Stop> {
+        if let Some(stop) = self.meter.stopped {
+            return Err(stop);
+        }
+        if !self.in_box(x) || !sized {
+            return Ok(false);
+        }
+        self.meter.charge(kind, self.objective.sample_count())?;
+        self.objective
+            .select(&mut self.work, Rows::Full, &mut self.rng);
+        Ok(true)
+    }
+
     /// Whether `x` is a finite point of the box, of the right length.
     fn in_box(&self, x: &[f64]) -> bool {
         x.len() == self.objective.dim()
@@ -606,16 +623,9 @@ impl<O: Objective> Search for TrialContext<'_, O> {
 
     fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> Result<bool, Stop> {
         let n = self.objective.sample_count();
-        if let Some(stop) = self.meter.stopped {
-            return Err(stop);
-        }
-        if !self.in_box(x) || r.len() != n {
+        if !self.admit_full_data(Kind::Residual, x, r.len() == n)? {
             return Ok(false);
         }
-        // The same unit as a descent's residual evaluation over the full data.
-        self.meter.charge(Kind::Residual, n)?;
-        self.objective
-            .select(&mut self.work, Rows::Full, &mut self.rng);
         if !self.objective.residuals(&mut self.work, x, r) {
             return Ok(false);
         }
@@ -630,17 +640,9 @@ impl<O: Objective> Search for TrialContext<'_, O> {
 
     fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> Result<bool, Stop> {
         let n = self.objective.sample_count();
-        if let Some(stop) = self.meter.stopped {
-            return Err(stop);
-        }
-        if !self.in_box(x) || jac.len() != n * self.objective.dim() {
-            return Ok(false);
-        }
-        // One Jacobian row per sample, as in a descent.
-        self.meter.charge(Kind::Jacobian, n)?;
-        self.objective
-            .select(&mut self.work, Rows::Full, &mut self.rng);
-        Ok(self.objective.jacobian(&mut self.work, x, jac))
+        let sized = jac.len() == n * self.objective.dim();
+        Ok(self.admit_full_data(Kind::Jacobian, x, sized)?
+            && self.objective.jacobian(&mut self.work, x, jac))
     }
 
     fn check_budget(&mut self) -> Result<(), Stop> {
