@@ -293,6 +293,27 @@ const SEARCHES: [(&str, f64, ExponentCoord, &[&str]); 3] = [
     ("tuning", 0.11, ExponentCoord::Raw, &["aed", "rpls"]),
 ];
 
+/// How the search rows were measured, for the report and the page alike.
+fn searches_method(r: &BenchReport) -> String {
+    format!(
+        "paper defaults, starts uniform in the exponent coordinate (log-uniform in n with log1p, \
+         uniform in n with raw n), 10000 samples with noise 0.1 (instance seed 1), {} seeds, CPU \
+         cutoff {} s; medians over all trials (censored = +inf). Sample-evaluations in the \
+         paper's count (whole full-data RMSEs) and as computed (full-data checks stopped early); \
+         ns per sample-evaluation is the median over all trials of CPU time over computed \
+         sample-evaluations at the trial's end.",
+        r.seeds, r.cutoff_cpu_seconds
+    )
+}
+
+/// `text` with its first letter in upper case.
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |c| {
+        c.to_uppercase().collect::<String>() + chars.as_str()
+    })
+}
+
 fn coord_name(c: ExponentCoord) -> &'static str {
     match c {
         ExponentCoord::Log1p => "log1p",
@@ -474,15 +495,10 @@ fn markdown(r: &BenchReport) -> String {
         ));
     }
     s.push_str(&format!(
-        "\nSearches: paper defaults, starts uniform in the exponent coordinate (log-uniform in n \
-         with log1p, uniform in n with raw n), 10000 samples with noise 0.1 (instance seed 1), {} \
-         seeds, CPU cutoff {} s; medians over all trials (censored = +inf). Sample-evaluations in \
-         the paper's count (whole full-data RMSEs) and as computed (full-data checks stopped \
-         early); ns per sample-evaluation is the median over all trials of CPU time over computed \
-         sample-evaluations at the trial's end.\n\n\
+        "\nSearches: {}\n\n\
          | instance | coordinate | algorithm | reached | median CPU ms | median evaluations | median computed | ns per sample-evaluation |\n\
          |---|---|---|---|---|---|---|---|\n",
-        r.seeds, r.cutoff_cpu_seconds
+        searches_method(r)
     ));
     for x in &r.searches {
         s.push_str(&format!(
@@ -579,18 +595,7 @@ fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u6
         &rows,
     ));
     body.push_str(&section("kernels", 2, "Kernels", &k));
-    let mut s = para(
-        "",
-        &format!(
-            "Paper defaults, starts uniform in the exponent coordinate (log-uniform in n with \
-             log1p, uniform in n with raw n), 10000 samples with noise 0.1 (instance seed 1), {} \
-             seeds, CPU cutoff {} s; medians over all trials (censored = +inf). \
-             Sample-evaluations in the paper's count (whole full-data RMSEs) and as computed \
-             (full-data checks stopped early); ns per sample-evaluation is the median over all \
-             trials of CPU time over computed sample-evaluations at the trial's end.",
-            r.seeds, r.cutoff_cpu_seconds
-        ),
-    );
+    let mut s = para("", &capitalised(&searches_method(r)));
     let rows: Vec<Vec<String>> = r
         .searches
         .iter()
