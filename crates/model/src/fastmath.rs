@@ -144,11 +144,9 @@ fn pow2i(k: f64) -> f64 {
 /// `k >= EXP_FLUSH_K` the result is at least `0.7 * 2^-1010`, a normal number that stays normal
 /// through the lobe kernels' products, so they never compute with subnormals. Each operation
 /// that makes or reads a subnormal costs a microcode assist of about a hundred cycles on Intel
-/// cores: with gradual underflow, RPLS in raw n (where `d^n` with `n` in the thousands
-/// underflows at most samples) took 9.7 ns per sample-evaluation, with the flush 5.5 to 5.7
-/// (medians of three alternated 40-trial runs, Intel Xeon with AVX-512, 2026-12-03; the
-/// whole record is in docs/performance.md). A lobe value
-/// below `2^-1010` changes no residual's bits beside a data value of normal size; the Jacobian
+/// cores, and in raw n (`d^n` with `n` in the thousands) `d^n` underflows at most samples: the
+/// measured cost is in docs/performance.md (issue 38). A lobe value below `2^-1010` changes no
+/// residual's bits beside a data value of normal size; the Jacobian
 /// entries computed from it become 0: a dead lobe's (which were below 1e-304 or so), and
 /// `n d^(n-1)` at the very edge of a lobe (`d` below 1e-304 with `n` near 1), where the
 /// derivative of `max(0, d)^n` jumps anyway. The scalar reference kernel (libm `powf`) keeps
