@@ -7,6 +7,18 @@ use crate::folder::Folder;
 use crate::stats::{Measure, Outcome, outcome};
 use crate::store::TrialRecord;
 
+/// Relative difference under which two targets are the same target: a relative target is a
+/// best-known RMSE times `1 + r`, and re-computing the best-known RMSE after a change of
+/// round-off moves it in its last bits (1e-16 relative), not to another optimum. A trial could
+/// not tell such targets apart; a best-known RMSE that moved further (another optimum found)
+/// makes the targets different.
+pub const TARGET_ROUND_OFF: f64 = 1e-12;
+
+/// Whether `a` and `b` are the same target up to [`TARGET_ROUND_OFF`].
+pub fn same_target(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= TARGET_ROUND_OFF * a.abs().max(b.abs())
+}
+
 /// What must agree between A and B for their results to be compared.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conditions {
@@ -119,7 +131,7 @@ pub fn differences(a: &Conditions, b: &Conditions) -> Vec<String> {
             json_diff(&a.model, &b.model)
         ));
     }
-    if a.run_target != b.run_target {
+    if !same_target(a.run_target, b.run_target) {
         out.push(format!(
             "different target (trials stop at RMSE {} vs {})",
             a.run_target, b.run_target

@@ -24,7 +24,9 @@ use crate::stats::{Measure, MeasureSummary, Outcome, holm, log_rank, summarise};
 mod conditions;
 pub mod text;
 
-pub use conditions::{Conditions, Entry, budget_text, differences, entries};
+pub use conditions::{
+    Conditions, Entry, TARGET_ROUND_OFF, budget_text, differences, entries, same_target,
+};
 pub use text::table;
 
 /// How pairs are judged.
@@ -206,13 +208,9 @@ fn compare_entry(a: &Entry, b: &Entry, options: &Options) -> Vec<Row> {
     if !diffs.is_empty() {
         return vec![row(None, Verdict::NotComparable(diffs.join("; ")))];
     }
-    let common: Vec<f64> = a
-        .targets
-        .iter()
-        .copied()
-        .filter(|t| b.targets.contains(t))
-        .collect();
-    if common.is_empty() {
+    // Each of A's targets with B's same target (up to round-off, see `same_target`).
+    let matched = |t: f64| b.targets.iter().copied().find(|&u| same_target(t, u));
+    if a.targets.iter().all(|&t| matched(t).is_none()) {
         let why = format!(
             "different targets (A: {}; B: {})",
             targets_text(&a.targets),
@@ -222,28 +220,29 @@ fn compare_entry(a: &Entry, b: &Entry, options: &Options) -> Vec<Row> {
     }
     let mut rows = Vec::new();
     for &t in &a.targets {
-        if !common.contains(&t) {
+        let Some(u) = matched(t) else {
             rows.push(row(
                 Some(t),
                 Verdict::NotComparable("target only in A".into()),
             ));
             continue;
-        }
+        };
         let mut r = row(Some(t), Verdict::NoDifference);
         let others = Measure::ALL.into_iter().filter(|m| *m != options.measure);
         for m in std::iter::once(options.measure).chain(others) {
             r.measures.push(measure_row(
                 &a.outcomes(t, m),
-                &b.outcomes(t, m),
+                &b.outcomes(u, m),
                 m,
                 options,
             ));
         }
         rows.push(r);
     }
-    for &t in b.targets.iter().filter(|t| !common.contains(t)) {
+    let in_a = |u: f64| a.targets.iter().any(|&t| same_target(t, u));
+    for &u in b.targets.iter().filter(|&&u| !in_a(u)) {
         rows.push(row(
-            Some(t),
+            Some(u),
             Verdict::NotComparable("target only in B".into()),
         ));
     }

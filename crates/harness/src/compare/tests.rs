@@ -143,6 +143,32 @@ fn a_different_target_is_not_comparable_and_says_so() {
     assert_eq!(c.comparable(), 0);
 }
 
+/// A relative target re-computed after a change of round-off (the best-known RMSE moved in its
+/// last bits) is the same target; one moved by more is not.
+#[test]
+fn a_target_moved_by_round_off_is_the_same_target() {
+    let moved = |by: f64| {
+        let mut b = entry(1);
+        let t = b.targets[0] * (1.0 + by);
+        b.targets = vec![t];
+        b.conditions.run_target = t;
+        b
+    };
+    let c = compare(
+        &[entry(1)],
+        &[moved(2.0 * f64::EPSILON)],
+        Options::default(),
+    );
+    assert_eq!(verdicts(&c), vec![Verdict::NoDifference]);
+    assert_eq!(c.comparable(), 1);
+    let c = compare(&[entry(1)], &[moved(1e-9)], Options::default());
+    let v = verdicts(&c);
+    let [Verdict::NotComparable(why)] = v.as_slice() else {
+        panic!("{c:?}");
+    };
+    assert!(why.contains("different target"), "{why}");
+}
+
 #[test]
 fn each_difference_of_conditions_is_named() {
     let a = conditions();
