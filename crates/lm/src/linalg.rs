@@ -209,6 +209,14 @@ pub(crate) fn shifted_scratch_len(n: usize) -> usize {
     n * (n + 1)
 }
 
+/// Sums of squares below which a Givens rotation's `r` is computed from the entries scaled
+/// by [`SCALE_UP`]: below it the squares may have lost bits to gradual underflow, or vanished.
+const SCALE_BELOW: f64 = f64::MIN_POSITIVE * (1u64 << 53) as f64;
+/// `2^600` and its inverse: entries below `sqrt(SCALE_BELOW)` (about `1.5e-146`) scale to
+/// below `6e34`, and a subnormal one (at least `5e-324`) to above `2e-143`.
+const SCALE_UP: f64 = f64::from_bits((1023 + 600) << 52);
+const SCALE_DOWN: f64 = f64::from_bits((1023 - 600) << 52);
+
 /// One Givens rotation of [`shifted_triangular`]: zeroes `row[k]` against `tl`'s row `k`;
 /// `row[n]` carries the row's right-hand side.
 #[inline(always)]
@@ -219,8 +227,16 @@ fn eliminate_entry(tl: &mut [f64], ul: &mut [f64], n: usize, k: usize, row: &mut
     }
     let tkk = tl[k * n + k];
     // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
-    // D-scaled, far from overflow.
-    let r = (tkk * tkk + wk * wk).sqrt();
+    // D-scaled, far from overflow. Not from underflow: a dead lobe's entries (1e-175) square
+    // to 0, which made r = 0 and the rotation NaN. Such small pairs are scaled by a power of
+    // two first, which is exact.
+    let r2 = tkk * tkk + wk * wk;
+    let r = if r2 >= SCALE_BELOW {
+        r2.sqrt()
+    } else {
+        let (a, b) = (tkk * SCALE_UP, wk * SCALE_UP);
+        (a * a + b * b).sqrt() * SCALE_DOWN
+    };
     let (cs, sn) = (tkk / r, wk / r);
     for j in k..n {
         let a = tl[j * n + k];
@@ -528,6 +544,37 @@ mod tests {
                 let want = shifted_triangular_row_by_row(&t, &u, n, lam);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&tl), bits(&want), "n {n} lam {lam}");
+            }
+        }
+    }
+
+    /// A dead lobe's tiny entries (1e-175: their squares underflow to 0) gave `r = 0` in a
+    /// rotation and NaN in the factor; now `tl^T tl = t^T t + lam I` holds there too.
+    #[test]
+    fn shifted_factor_of_tiny_columns_is_finite() {
+        let n = 3;
+        // Column-major upper triangle: a live column and two dead ones.
+        let t = [1.0, 0.0, 0.0, 1e-175, 5e-176, 0.0, 2e-175, 1e-176, 3e-185];
+        let u = [-3.9, 0.1, 0.09];
+        for lam in [3.5, 1e-9, 1e-300] {
+            let (mut tl, mut ul) = (vec![0.0; n * n], vec![0.0; n]);
+            let mut w = vec![0.0; shifted_scratch_len(n)];
+            shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w);
+            assert!(
+                tl.iter().chain(&ul).all(|v| v.is_finite()),
+                "lam {lam}: {tl:?}"
+            );
+            for a in 0..n {
+                for b in 0..n {
+                    let col = |m: &[f64], j: usize| m[j * n..(j + 1) * n].to_vec();
+                    let got = dot(&col(&tl, a), &col(&tl, b));
+                    let want = dot(&col(&t, a), &col(&t, b)) + if a == b { lam } else { 0.0 };
+                    let scale = want.abs().max(1e-300);
+                    assert!(
+                        (got - want).abs() <= 1e-14 * scale,
+                        "lam {lam} [{a},{b}]: {got} {want}"
+                    );
+                }
             }
         }
     }

@@ -40,11 +40,12 @@ pub const TALL_QR_BLOCK: usize = 256;
 /// 10000 x 7 on this machine).
 const LD: usize = TALL_QR_BLOCK + 4;
 
-/// The solver uses [`tall_qr`] from this many rows on and [`householder_qr`] below. Above the
-/// largest NIST StRD problem (250 rows). The tall QR for every size made AED's median CPU
-/// about 10% faster but changed the Moré-Garbow-Hillstrom table (64 instead of 65 unbounded
-/// runs with a success code, 74 instead of 75 boxed runs at a KKT point), so it was not taken.
-pub const TALL_QR_MIN_ROWS: usize = 256;
+/// The solver uses [`tall_qr`] from this many rows on and [`householder_qr`] below: just
+/// above the largest Moré-Garbow-Hillstrom problem (Osborne 2, 65 rows). The tall QR for
+/// every size changed that table (64 instead of 65 unbounded runs with a success code, 74
+/// instead of 75 boxed runs at a KKT point); from 66 rows it is unchanged, NIST StRD stays at
+/// 52/54, and AED's subsamples of 69 rows and more take the faster QR (docs/performance.md).
+pub const TALL_QR_MIN_ROWS: usize = 66;
 
 /// Below this norm or above its inverse the column is rescaled before squaring (a column
 /// of 1e-160 gave inf and NaN in `R` before).

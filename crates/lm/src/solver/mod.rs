@@ -22,6 +22,7 @@ mod model;
 mod radius;
 mod scaling;
 mod secant;
+mod spectral;
 mod step;
 mod subproblem;
 mod workspace;

@@ -3,7 +3,8 @@
 //! than variables, and the augmented model by Cholesky factorizations.
 
 use super::factorisation::triangular_full_rank;
-use super::subproblem::Subproblem;
+use super::spectral::SpectralModel;
+use super::subproblem::{StopPoll, Subproblem};
 use crate::linalg::{
     backward_solve, cholesky_shifted, dot, forward_solve, norm, shifted_triangular, upper_solve,
     upper_transpose_solve,
@@ -82,6 +83,10 @@ impl Subproblem for LeastSquaresModel<'_> {
 
     fn steepest_descent(&self, z: &mut [f64]) {
         least_squares_steepest_descent(self.t, self.u, self.n, z);
+    }
+
+    fn spectral(&mut self, poll: &mut StopPoll<'_>) -> Option<SpectralModel<'_>> {
+        self.spectral_form(&mut |flops| poll.charge(flops))
     }
 }
 
