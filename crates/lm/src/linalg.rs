@@ -178,6 +178,7 @@ pub(crate) fn norm(a: &[f64]) -> f64 {
 /// function's time on waiting for them). Here they run in anti-diagonal sweeps `i + k = s`,
 /// whose rotations are independent of one another and so overlap, while each entry still
 /// receives its updates in the row-after-row order: the result is the same to the bit.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn shifted_triangular(
     t: &[f64],
     u: &[f64],
@@ -186,6 +187,7 @@ pub(crate) fn shifted_triangular(
     tl: &mut [f64],
     ul: &mut [f64],
     w: &mut [f64],
+    scale_tiny: bool,
 ) {
     tl[..n * n].copy_from_slice(&t[..n * n]);
     ul[..n].copy_from_slice(&u[..n]);
@@ -199,7 +201,7 @@ pub(crate) fn shifted_triangular(
     for s in 0..(2 * n).saturating_sub(1) {
         for i in s.saturating_sub(n - 1)..=s / 2 {
             let row = &mut rows[i * stride..(i + 1) * stride];
-            eliminate_entry(tl, ul, n, s - i, row);
+            eliminate_entry(tl, ul, n, s - i, row, scale_tiny);
         }
     }
 }
@@ -220,7 +222,14 @@ const SCALE_DOWN: f64 = f64::from_bits((1023 - 600) << 52);
 /// One Givens rotation of [`shifted_triangular`]: zeroes `row[k]` against `tl`'s row `k`;
 /// `row[n]` carries the row's right-hand side.
 #[inline(always)]
-fn eliminate_entry(tl: &mut [f64], ul: &mut [f64], n: usize, k: usize, row: &mut [f64]) {
+fn eliminate_entry(
+    tl: &mut [f64],
+    ul: &mut [f64],
+    n: usize,
+    k: usize,
+    row: &mut [f64],
+    scale_tiny: bool,
+) {
     let wk = row[k];
     if wk == 0.0 {
         return;
@@ -228,10 +237,11 @@ fn eliminate_entry(tl: &mut [f64], ul: &mut [f64], n: usize, k: usize, row: &mut
     let tkk = tl[k * n + k];
     // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
     // D-scaled, far from overflow. Not from underflow: a dead lobe's entries (1e-175) square
-    // to 0, which made r = 0 and the rotation NaN. Such small pairs are scaled by a power of
-    // two first, which is exact.
+    // to 0, which makes r = 0 and the rotation NaN. With `scale_tiny`
+    // (`Safeguards::scale_tiny_rotations`) such pairs are scaled by a power of two first,
+    // which is exact.
     let r2 = tkk * tkk + wk * wk;
-    let r = if r2 >= SCALE_BELOW {
+    let r = if r2 >= SCALE_BELOW || !scale_tiny {
         r2.sqrt()
     } else {
         let (a, b) = (tkk * SCALE_UP, wk * SCALE_UP);
@@ -539,7 +549,7 @@ mod tests {
                 let u: Vec<f64> = (0..n).map(|_| next()).collect();
                 let (mut tl, mut ul) = (vec![0.0; n * n], vec![0.0; n]);
                 let mut w = vec![f64::NAN; shifted_scratch_len(n)];
-                shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w);
+                shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w, true);
                 tl.extend_from_slice(&ul);
                 let want = shifted_triangular_row_by_row(&t, &u, n, lam);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -548,8 +558,9 @@ mod tests {
         }
     }
 
-    /// A dead lobe's tiny entries (1e-175: their squares underflow to 0) gave `r = 0` in a
-    /// rotation and NaN in the factor; now `tl^T tl = t^T t + lam I` holds there too.
+    /// A dead lobe's tiny entries (1e-175: their squares underflow to 0) give `r = 0` in a
+    /// plain rotation and NaN in the factor; with the scaling `tl^T tl = t^T t + lam I` holds
+    /// there too.
     #[test]
     fn shifted_factor_of_tiny_columns_is_finite() {
         let n = 3;
@@ -559,7 +570,7 @@ mod tests {
         for lam in [3.5, 1e-9, 1e-300] {
             let (mut tl, mut ul) = (vec![0.0; n * n], vec![0.0; n]);
             let mut w = vec![0.0; shifted_scratch_len(n)];
-            shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w);
+            shifted_triangular(&t, &u, n, lam, &mut tl, &mut ul, &mut w, true);
             assert!(
                 tl.iter().chain(&ul).all(|v| v.is_finite()),
                 "lam {lam}: {tl:?}"
@@ -577,6 +588,11 @@ mod tests {
                 }
             }
         }
+        // Without the scaling (the searches' descents keep the plain rotation): NaN.
+        let (mut tl, mut ul) = (vec![0.0; n * n], vec![0.0; n]);
+        let mut w = vec![0.0; shifted_scratch_len(n)];
+        shifted_triangular(&t, &u, n, 3.5, &mut tl, &mut ul, &mut w, false);
+        assert!(tl.iter().any(|v| v.is_nan()), "plain rotations: {tl:?}");
     }
 
     #[test]
@@ -594,7 +610,7 @@ mod tests {
         }
         let lam = 0.7;
         let (mut tl, mut ul, mut w) = ([0.0; 9], [0.0; 3], [0.0; 12]);
-        shifted_triangular(&r, &rhs[..3], 3, lam, &mut tl, &mut ul, &mut w);
+        shifted_triangular(&r, &rhs[..3], 3, lam, &mut tl, &mut ul, &mut w, true);
         for c1 in 0..3 {
             for c2 in 0..3 {
                 let jtj: f64 = (0..4).map(|i| j[c1 * 4 + i] * j[c2 * 4 + i]).sum();

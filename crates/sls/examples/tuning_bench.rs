@@ -7,6 +7,7 @@
 //!     [--raw-exponent] [--overshoot] [--instance tuning] [--sigma 0.1] [--no-early-exit]
 //!     [--gauss-newton] [--adaptive-delay 2] [--no-secant-scaling] [--secant-delay 2]
 //!     [--hold-dead-columns] [--singular-radius-at-least-x] [--stop-at-minimum-norm-step]
+//!     [--scale-tiny-rotations]
 //!     [--second-order-correction] [--scaling-decay 0.6]
 //! ```
 //! The descents use bounded-lm's default model, NL2SOL's adaptive choice switching only after
@@ -22,6 +23,9 @@
 //! searches use N2FB's LMAXS alone). `--stop-at-minimum-norm-step` ends the search for the
 //! Levenberg parameter at a singular model's minimum-norm step, as the library's default does
 //! (`bounded_lm::Safeguards::stop_at_minimum_norm_step`; the searches keep searching).
+//! `--scale-tiny-rotations` scales a Givens rotation's tiny entries before squaring them, as the
+//! library's default does (`bounded_lm::Safeguards::scale_tiny_rotations`; the searches keep
+//! the plain rotation).
 //! `--second-order-correction` corrects a rejected descent step once for the residuals'
 //! curvature, as the library's default does (`bounded_lm::Safeguards::second_order_correction`;
 //! the searches do not).
@@ -64,6 +68,7 @@ struct Args {
     hold_dead_columns: bool,
     singular_radius_at_least_x: bool,
     stop_at_minimum_norm_step: bool,
+    scale_tiny_rotations: bool,
     second_order_correction: bool,
     scaling_decay: f64,
 }
@@ -99,6 +104,7 @@ fn parse() -> Result<Args, String> {
         hold_dead_columns: search.safeguards.hold_dead_columns,
         singular_radius_at_least_x: search.safeguards.singular_radius_at_least_x,
         stop_at_minimum_norm_step: search.safeguards.stop_at_minimum_norm_step,
+        scale_tiny_rotations: search.safeguards.scale_tiny_rotations,
         second_order_correction: search.safeguards.second_order_correction,
         scaling_decay: search.scaling.decay,
     };
@@ -112,6 +118,7 @@ fn parse() -> Result<Args, String> {
             "--hold-dead-columns" => Some((&mut a.hold_dead_columns, true)),
             "--singular-radius-at-least-x" => Some((&mut a.singular_radius_at_least_x, true)),
             "--stop-at-minimum-norm-step" => Some((&mut a.stop_at_minimum_norm_step, true)),
+            "--scale-tiny-rotations" => Some((&mut a.scale_tiny_rotations, true)),
             "--second-order-correction" => Some((&mut a.second_order_correction, true)),
             "--no-secant-scaling" => Some((&mut a.secant_scaling, false)),
             "--no-early-exit" => Some((&mut a.early_exit, false)),
@@ -300,6 +307,7 @@ fn main() {
                 ctx.set_hold_dead_columns(args.hold_dead_columns);
                 ctx.set_singular_radius_at_least_x(args.singular_radius_at_least_x);
                 ctx.set_stop_at_minimum_norm_step(args.stop_at_minimum_norm_step);
+                ctx.set_scale_tiny_rotations(args.scale_tiny_rotations);
                 ctx.set_second_order_correction(args.second_order_correction);
                 ctx.set_scaling_decay(args.scaling_decay);
                 let end = config.run(&mut ctx);

@@ -334,6 +334,13 @@ impl<'a, O: Objective> TrialContext<'a, O> {
         self.options.safeguards.stop_at_minimum_norm_step = on;
     }
 
+    /// Whether the descents' Givens rotations scale tiny entries before squaring them
+    /// (`bounded_lm::Safeguards::scale_tiny_rotations`; off in the searches, see
+    /// [`DescentModel::options`]). For comparisons.
+    pub fn set_scale_tiny_rotations(&mut self, on: bool) {
+        self.options.safeguards.scale_tiny_rotations = on;
+    }
+
     /// Whether a rejected descent step gets one second-order correction
     /// (`bounded_lm::Safeguards::second_order_correction`; off in the searches, see
     /// [`DescentModel::options`]). For comparisons.

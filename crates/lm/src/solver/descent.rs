@@ -112,6 +112,7 @@ impl<'o> Descent<'o> {
         opt: &'o Options,
     ) -> Result<Start<'o>, SolveError> {
         let (m, p) = (ws.m, ws.p);
+        ws.scale_tiny_rotations = opt.safeguards.scale_tiny_rotations;
         if !problem.residuals(&ws.x[..p], &mut ws.r[..m]) {
             return Err(SolveError::StartNotEvaluable);
         }

@@ -22,7 +22,6 @@ mod model;
 mod radius;
 mod scaling;
 mod secant;
-mod spectral;
 mod step;
 mod subproblem;
 mod workspace;

@@ -3,8 +3,7 @@
 //! than variables, and the augmented model by Cholesky factorizations.
 
 use super::factorisation::triangular_full_rank;
-use super::spectral::SpectralModel;
-use super::subproblem::{StopPoll, Subproblem};
+use super::subproblem::Subproblem;
 use crate::linalg::{
     backward_solve, cholesky_shifted, dot, forward_solve, norm, shifted_triangular, upper_solve,
     upper_transpose_solve,
@@ -30,6 +29,8 @@ pub(super) struct LeastSquaresModel<'a> {
     pub(super) u_lambda: &'a mut [f64],
     /// Givens scratch rows ([`shifted_scratch_len`]).
     pub(super) row: &'a mut [f64],
+    /// [`Safeguards::scale_tiny_rotations`](crate::Safeguards::scale_tiny_rotations).
+    pub(super) scale_tiny: bool,
 }
 
 impl Subproblem for LeastSquaresModel<'_> {
@@ -59,6 +60,7 @@ impl Subproblem for LeastSquaresModel<'_> {
             self.t_lambda,
             self.u_lambda,
             self.row,
+            self.scale_tiny,
         );
         if (0..n).any(|i| self.t_lambda[i * n + i] == 0.0) {
             return false;
@@ -83,10 +85,6 @@ impl Subproblem for LeastSquaresModel<'_> {
 
     fn steepest_descent(&self, z: &mut [f64]) {
         least_squares_steepest_descent(self.t, self.u, self.n, z);
-    }
-
-    fn spectral(&mut self, poll: &mut StopPoll<'_>) -> Option<SpectralModel<'_>> {
-        self.spectral_form(&mut |flops| poll.charge(flops))
     }
 }
 

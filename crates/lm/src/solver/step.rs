@@ -254,6 +254,7 @@ impl Workspace {
                 t_lambda: &mut self.sub.t_lambda[..n * n],
                 u_lambda: &mut self.sub.u_lambda[..n],
                 row: &mut self.sub.row[..shifted_scratch_len(n)],
+                scale_tiny: self.scale_tiny_rotations,
             };
             trust_region(&mut sub, radius, lambda, stop_at_min_norm, poll, z, scratch)
         }

@@ -1,7 +1,6 @@
 //! The trust-region subproblem: minimise a free-set model subject to `||z|| <= radius` by the
 //! More-Sorensen/Hebden iteration on the Levenberg-Marquardt parameter `lambda`.
 
-use super::spectral::SpectralModel;
 use crate::linalg::norm;
 
 /// Accepted relative error of the constrained step length (NL2SOL's EPSLON).
@@ -35,22 +34,7 @@ pub(super) trait Subproblem {
     fn bracket_data(&self) -> (f64, f64, f64);
     /// The steepest-descent direction `-gradient` into `z`.
     fn steepest_descent(&self, z: &mut [f64]);
-    /// The same model in spectral form, on which further shifted solves are cheap (see
-    /// [`SPECTRAL_AFTER`]); `None` when the model has none, or when `poll` said stop while it
-    /// was being made.
-    fn spectral(&mut self, _poll: &mut StopPoll<'_>) -> Option<SpectralModel<'_>> {
-        None
-    }
 }
-
-/// Shifted factorizations after which the iteration continues on the model's spectral form
-/// ([`Subproblem::spectral`]), where it has one. Nearly all solves end within this many (in
-/// 100 AED trials on the tuning instance, 98% in log1p coordinates); most of the rest are
-/// singular models that run to the 60-step limit (docs/performance.md).
-pub(super) const SPECTRAL_AFTER: usize = 8;
-
-/// Most shifted solves of one trust-region solve (NL2SOL's limit).
-const MAX_TRIALS: usize = 60;
 
 /// Relative growth of the step's norm below which [`reached_minimum_norm_step`] calls the
 /// steps converged.
@@ -144,6 +128,7 @@ pub(super) fn trust_region(
     z: &mut [f64],
     (best, q): (&mut [f64], &mut [f64]),
 ) -> TrResult {
+    let n = sub.n();
     let (gnorm, hnorm, min_diag) = sub.bracket_data();
     if gnorm == 0.0 {
         z.fill(0.0);
@@ -182,168 +167,90 @@ pub(super) fn trust_region(
             }
         }
     }
-    let mut search = LambdaSearch {
-        radius,
-        lo: (-min_diag).max(gnorm / radius - hnorm).max(0.0),
-        hi: gnorm / radius + hnorm,
-        lam: lambda_guess,
-        best_lambda: None,
-        inside_norm: -1.0,
-        trials: 0,
-        stop_at_min_norm,
-        newton_norm,
-        best,
-        q,
-    };
-    let found = match search.run(sub, poll, z, SPECTRAL_AFTER) {
-        Search::Paused => match sub.spectral(poll) {
-            Some(mut spectral) => {
-                let found = search.run(&mut spectral, poll, z, MAX_TRIALS);
-                return search.result(found, &spectral, z, newton_reduction);
-            }
-            None if poll.stopped() => Search::Ended,
-            None => search.run(sub, poll, z, MAX_TRIALS),
-        },
-        other => other,
-    };
-    search.result(found, sub, z, newton_reduction)
-}
-
-/// How a stretch of the `lambda` iteration ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Search {
-    /// A step within [`RADIUS_SLACK`] of the radius, at this `lambda`, is in `z`.
-    OnBoundary(f64),
-    /// The iteration is over without one (bracket closed, minimum-norm step, trial limit,
-    /// or the poll said stop).
-    Ended,
-    /// The stretch's share of trials is used up.
-    Paused,
-}
-
-/// The state of the More-Sorensen/Hebden iteration on `lambda`, kept across the switch to a
-/// model's spectral form.
-struct LambdaSearch<'s> {
-    radius: f64,
-    /// The bracket of the boundary's `lambda`.
-    lo: f64,
-    hi: f64,
-    lam: f64,
-    /// The `lambda` of the best feasible step seen (the one in `best`).
-    best_lambda: Option<f64>,
-    /// The norm of the last step found inside the region (see the minimum-norm test); -1
-    /// before the first, so that the test cannot pass on it.
-    inside_norm: f64,
-    trials: usize,
-    stop_at_min_norm: bool,
-    newton_norm: f64,
-    best: &'s mut [f64],
-    q: &'s mut [f64],
-}
-
-impl LambdaSearch<'_> {
-    /// Runs the iteration on `sub` until `until` shifted solves in all were made.
-    fn run(
-        &mut self,
-        sub: &mut impl Subproblem,
-        poll: &mut StopPoll<'_>,
-        z: &mut [f64],
-        until: usize,
-    ) -> Search {
-        let n = sub.n();
-        let radius = self.radius;
-        while self.trials < until {
-            self.trials += 1;
-            if poll.charge(shifted_solve_flops(n)) {
-                return Search::Ended;
-            }
-            let (lo, hi) = (self.lo, self.hi);
-            if !(self.lam > lo && self.lam < hi) {
-                let lam = if lo > 0.0 {
-                    (lo * hi).sqrt()
-                } else {
-                    1e-3 * hi
-                };
-                self.lam = lam.max(lo + 1e-3 * (hi - lo));
-            }
-            let lam = self.lam;
-            if !sub.shifted(lam, z) {
-                self.lo = lam;
-                self.lam = 0.0;
-                if hi - lam <= 1e-14 * hi {
-                    return Search::Ended;
-                }
-                continue;
-            }
-            let nz = norm(z);
-            if !nz.is_finite() {
-                self.lo = lam;
-                self.lam = 0.0;
-                continue;
-            }
-            if nz <= radius * (1.0 + RADIUS_SLACK) {
-                self.best[..n].copy_from_slice(&z[..n]);
-                self.best_lambda = Some(lam);
-            }
-            if (nz - radius).abs() <= RADIUS_SLACK * radius {
-                return Search::OnBoundary(lam);
-            }
-            if nz > radius {
-                self.lo = lam;
+    let mut lo = (-min_diag).max(gnorm / radius - hnorm).max(0.0);
+    let mut hi = gnorm / radius + hnorm;
+    let mut lam = lambda_guess;
+    let mut have_best = false;
+    let mut best_lambda = hi;
+    // The norm of the last step found inside the region (see the minimum-norm test below);
+    // -1 before the first, so that the test cannot pass on it.
+    let mut inside_norm = -1.0;
+    for _ in 0..60 {
+        if poll.charge(shifted_solve_flops(n)) {
+            break;
+        }
+        if !(lam > lo && lam < hi) {
+            lam = if lo > 0.0 {
+                (lo * hi).sqrt()
             } else {
-                self.hi = lam;
-                if self.stop_at_min_norm
-                    && reached_minimum_norm_step(lo, self.newton_norm, nz, self.inside_norm)
-                {
-                    return Search::Ended;
-                }
-                self.inside_norm = nz;
-            }
-            if self.hi - self.lo <= 1e-14 * self.hi {
-                return Search::Ended;
-            }
-            // Newton step on 1/||z(lambda)|| - 1/radius (Hebden): needs ||L^-1 z||.
-            let nq = sub.inverse_norm(z, self.q);
-            self.lam += (nz / nq) * (nz / nq) * (nz - radius) / radius;
+                1e-3 * hi
+            };
+            lam = lam.max(lo + 1e-3 * (hi - lo));
         }
-        if until < MAX_TRIALS {
-            Search::Paused
+        if !sub.shifted(lam, z) {
+            lo = lam;
+            lam = 0.0;
+            if hi - lo <= 1e-14 * hi {
+                break;
+            }
+            continue;
+        }
+        let nz = norm(z);
+        if !nz.is_finite() {
+            lo = lam;
+            lam = 0.0;
+            continue;
+        }
+        if nz <= radius * (1.0 + RADIUS_SLACK) {
+            best[..n].copy_from_slice(&z[..n]);
+            best_lambda = lam;
+            have_best = true;
+        }
+        if (nz - radius).abs() <= RADIUS_SLACK * radius {
+            return TrResult {
+                lambda: lam,
+                newton_reduction,
+                newton_norm,
+                is_newton: false,
+            };
+        }
+        if nz > radius {
+            lo = lam;
         } else {
-            Search::Ended
+            hi = lam;
+            if stop_at_min_norm && reached_minimum_norm_step(lo, newton_norm, nz, inside_norm) {
+                break;
+            }
+            inside_norm = nz;
         }
+        if hi - lo <= 1e-14 * hi {
+            break;
+        }
+        // Newton step on 1/||z(lambda)|| - 1/radius (Hebden): needs ||L^-1 z||.
+        let nq = sub.inverse_norm(z, q);
+        lam += (nz / nq) * (nz / nq) * (nz - radius) / radius;
     }
-
-    /// The step of the iteration's end: the boundary step, else the best feasible step seen,
-    /// else (no shifted solve succeeded inside the bracket) a scaled gradient step.
-    fn result(
-        &self,
-        found: Search,
-        sub: &impl Subproblem,
-        z: &mut [f64],
-        newton_reduction: f64,
-    ) -> TrResult {
-        let n = sub.n();
-        let lambda = match (found, self.best_lambda) {
-            (Search::OnBoundary(lam), _) => lam,
-            (_, Some(lam)) => {
-                z[..n].copy_from_slice(&self.best[..n]);
-                lam
-            }
-            (_, None) => {
-                sub.steepest_descent(z);
-                let zn = norm(z);
-                if zn > 0.0 {
-                    for v in z[..n].iter_mut() {
-                        *v *= self.radius / zn;
-                    }
-                }
-                self.hi
-            }
-        };
+    if have_best {
+        z[..n].copy_from_slice(&best[..n]);
         TrResult {
-            lambda,
+            lambda: best_lambda,
             newton_reduction,
-            newton_norm: self.newton_norm,
+            newton_norm,
+            is_newton: false,
+        }
+    } else {
+        // No factorization succeeded inside the bracket: fall back to a scaled gradient step.
+        sub.steepest_descent(z);
+        let zn = norm(z);
+        if zn > 0.0 {
+            for v in z[..n].iter_mut() {
+                *v *= radius / zn;
+            }
+        }
+        TrResult {
+            lambda: hi,
+            newton_reduction,
+            newton_norm,
             is_newton: false,
         }
     }
@@ -426,15 +333,11 @@ mod tests {
         fn steepest_descent(&self, z: &mut [f64]) {
             self.sub.steepest_descent(z)
         }
-        fn spectral(&mut self, poll: &mut StopPoll<'_>) -> Option<SpectralModel<'_>> {
-            self.sub.spectral(poll)
-        }
     }
 
     /// A singular model whose minimum-norm step lies inside the region: with
     /// `stop_at_min_norm` the iteration returns that step after a few factorizations; without
-    /// it, it runs to its 60-step limit, the steps after [`SPECTRAL_AFTER`] on the spectral
-    /// form, and ends at the same step.
+    /// it, it runs to its 60-step limit.
     #[test]
     pub(super) fn singular_model_stops_at_its_minimum_norm_step() {
         // 0.5 ||u + T z||^2 with variable 1 dead: the minimum-norm minimiser solves
@@ -455,6 +358,7 @@ mod tests {
                     t_lambda: &mut t_lambda,
                     u_lambda: &mut u_lambda,
                     row: &mut row,
+                    scale_tiny: true,
                 },
                 shifted: 0,
             };
@@ -477,10 +381,7 @@ mod tests {
             "with the stop: {} factorizations",
             counts[0]
         );
-        assert_eq!(
-            counts[1], SPECTRAL_AFTER,
-            "without it, Givens factorizations until the switch to the spectral form"
-        );
+        assert_eq!(counts[1], 60, "without it, the 60-step limit");
     }
 
     /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.
@@ -497,6 +398,7 @@ mod tests {
                 t_lambda: &mut t_lambda,
                 u_lambda: &mut u_lambda,
                 row: &mut row,
+                scale_tiny: true,
             };
             let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
             let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
@@ -542,6 +444,7 @@ mod tests {
                 t_lambda: &mut t_lambda,
                 u_lambda: &mut u_lambda,
                 row: &mut row,
+                scale_tiny: true,
             };
             let mut zp = vec![0.0; n];
             let mut never = || false;
