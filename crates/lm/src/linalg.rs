@@ -211,13 +211,9 @@ pub(crate) fn shifted_scratch_len(n: usize) -> usize {
     n * (n + 1)
 }
 
-/// Sums of squares below which a Givens rotation's `r` is computed from the entries scaled
-/// by [`SCALE_UP`]: below it the squares may have lost bits to gradual underflow, or vanished.
-const SCALE_BELOW: f64 = f64::MIN_POSITIVE * (1u64 << 53) as f64;
-/// `2^600` and its inverse: entries below `sqrt(SCALE_BELOW)` (about `1.5e-146`) scale to
-/// below `6e34`, and a subnormal one (at least `5e-324`) to above `2e-143`.
-const SCALE_UP: f64 = f64::from_bits((1023 + 600) << 52);
-const SCALE_DOWN: f64 = f64::from_bits((1023 - 600) << 52);
+/// Sums of squares below which a Givens rotation's `r` is computed by `hypot`: below it the
+/// squares may have lost bits to gradual underflow, or vanished.
+const HYPOT_BELOW: f64 = f64::MIN_POSITIVE * (1u64 << 53) as f64;
 
 /// One Givens rotation of [`shifted_triangular`]: zeroes `row[k]` against `tl`'s row `k`;
 /// `row[n]` carries the row's right-hand side.
@@ -238,14 +234,12 @@ fn eliminate_entry(
     // Plain sqrt instead of hypot (5% of a small solve in a profile): the entries are
     // D-scaled, far from overflow. Not from underflow: a dead lobe's entries (1e-175) square
     // to 0, which makes r = 0 and the rotation NaN. With `scale_tiny`
-    // (`Safeguards::scale_tiny_rotations`) such pairs are scaled by a power of two first,
-    // which is exact.
+    // (`Safeguards::scale_tiny_rotations`) such pairs take hypot, which scales them.
     let r2 = tkk * tkk + wk * wk;
-    let r = if r2 >= SCALE_BELOW || !scale_tiny {
+    let r = if r2 >= HYPOT_BELOW || !scale_tiny {
         r2.sqrt()
     } else {
-        let (a, b) = (tkk * SCALE_UP, wk * SCALE_UP);
-        (a * a + b * b).sqrt() * SCALE_DOWN
+        tkk.hypot(wk)
     };
     let (cs, sn) = (tkk / r, wk / r);
     for j in k..n {

@@ -139,8 +139,8 @@ pub struct Safeguards {
     /// `||D c|| <= 0.75 ||D v||`, kept when it passes the usual test against `v`'s predicted
     /// reduction.
     pub second_order_correction: bool,
-    /// Compute a Givens rotation of the shifted factorization from its two entries scaled by
-    /// `2^600` when their squares underflow (default on). Computed plainly, a dead lobe's
+    /// Compute a Givens rotation of the shifted factorization by `hypot`, which scales its two
+    /// entries, when their squares underflow (default on). Computed plainly, a dead lobe's
     /// entries (about 1e-175) give `r = 0` and a NaN factor, which the search for the
     /// Levenberg parameter reads as "not positive definite" until its trials run out; it then
     /// ends on a scaled gradient step. The searches keep the plain rotation: with the scaling,

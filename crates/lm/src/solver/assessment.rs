@@ -5,7 +5,7 @@ use super::descent::{Descent, Trial};
 use super::subproblem::StopPoll;
 use super::workspace::Workspace;
 use crate::linalg::dot;
-use crate::{Outcome, Problem};
+use crate::{Outcome, Problem, Safeguards};
 
 /// A step is accepted when the actual reduction exceeds this fraction of the predicted one.
 pub(super) const ACCEPT_RATIO: f64 = 1e-4;
@@ -121,7 +121,7 @@ impl Descent<'_> {
             let reduction = ws.singular_test_reduction(
                 test_radius,
                 self.model.augmented,
-                opt.safeguards.stop_at_minimum_norm_step,
+                opt.safeguards,
                 &mut poll,
             );
             if poll.stopped() {
@@ -180,12 +180,12 @@ impl Workspace {
         &mut self,
         radius: f64,
         augmented: bool,
-        stop_at_min_norm: bool,
+        safeguards: Safeguards,
         poll: &mut StopPoll<'_>,
     ) -> f64 {
         std::mem::swap(&mut self.step, &mut self.singular_step);
         let saved_lambda = self.lambda;
-        let alt = self.compute_step(radius, augmented, stop_at_min_norm, poll);
+        let alt = self.compute_step(radius, augmented, safeguards, poll);
         self.lambda = saved_lambda;
         std::mem::swap(&mut self.step, &mut self.singular_step);
         alt.preduc

@@ -112,7 +112,6 @@ impl<'o> Descent<'o> {
         opt: &'o Options,
     ) -> Result<Start<'o>, SolveError> {
         let (m, p) = (ws.m, ws.p);
-        ws.scale_tiny_rotations = opt.safeguards.scale_tiny_rotations;
         if !problem.residuals(&ws.x[..p], &mut ws.r[..m]) {
             return Err(SolveError::StartNotEvaluable);
         }
@@ -271,7 +270,7 @@ impl<'o> Descent<'o> {
         let info = ws.compute_step(
             self.radius.radius,
             self.model.augmented,
-            opt.safeguards.stop_at_minimum_norm_step,
+            opt.safeguards,
             &mut poll,
         );
         if poll.stopped() {

@@ -5,6 +5,7 @@ use super::factorisation::{triangle_of_qr, triangular_full_rank};
 use super::model::{LeastSquaresModel, QuadraticModel, WideLeastSquaresModel};
 use super::subproblem::{StopPoll, TrResult, trust_region};
 use super::workspace::Workspace;
+use crate::Safeguards;
 use crate::linalg::{dot, shifted_scratch_len, sym_mat_vec};
 use crate::qr::householder_qr;
 
@@ -215,9 +216,10 @@ impl Workspace {
         n: usize,
         radius: f64,
         augmented: bool,
-        stop_at_min_norm: bool,
+        safeguards: Safeguards,
         poll: &mut StopPoll<'_>,
     ) -> TrResult {
+        let stop_at_min_norm = safeguards.stop_at_minimum_norm_step;
         if augmented {
             self.build_quadratic_model(n);
         }
@@ -254,7 +256,7 @@ impl Workspace {
                 t_lambda: &mut self.sub.t_lambda[..n * n],
                 u_lambda: &mut self.sub.u_lambda[..n],
                 row: &mut self.sub.row[..shifted_scratch_len(n)],
-                scale_tiny: self.scale_tiny_rotations,
+                scale_tiny: safeguards.scale_tiny_rotations,
             };
             trust_region(&mut sub, radius, lambda, stop_at_min_norm, poll, z, scratch)
         }
@@ -271,7 +273,7 @@ impl Workspace {
         &mut self,
         radius: f64,
         augmented: bool,
-        stop_at_min_norm: bool,
+        safeguards: Safeguards,
         poll: &mut StopPoll<'_>,
     ) -> StepInfo {
         let p = self.p;
@@ -296,7 +298,7 @@ impl Workspace {
                     nreduc_gn = 0.5 * dot(&self.sub.u[..n], &self.sub.u[..n]);
                 }
             }
-            let tr = self.solve_subproblem(n, remaining, augmented, stop_at_min_norm, poll);
+            let tr = self.solve_subproblem(n, remaining, augmented, safeguards, poll);
             if poll.stopped() {
                 return info;
             }

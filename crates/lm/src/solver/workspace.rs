@@ -185,9 +185,6 @@ pub(super) struct Workspace {
     pub(super) free: Vec<usize>,
     /// Last Levenberg-Marquardt parameter, a warm start for the next subproblem.
     pub(super) lambda: f64,
-    /// [`Safeguards::scale_tiny_rotations`](crate::Safeguards::scale_tiny_rotations) of the
-    /// solve in progress.
-    pub(super) scale_tiny_rotations: bool,
     pub(super) survey: JacobianSurvey,
     pub(super) factors: Factorisation,
     pub(super) sub: SubproblemBuffers,
