@@ -19,7 +19,7 @@
 
 use std::path::{Path, PathBuf};
 
-use brdf_model::BrdfParams;
+use brdf_model::Params;
 use rayon::prelude::*;
 
 /// Rendering errors.
@@ -309,7 +309,7 @@ impl RadianceImage {
 /// for the shading formula). Non-finite BRDF values (overflowing lobes) count as 0 so the
 /// image stays finite.
 pub fn render_radiance(
-    params: &BrdfParams,
+    params: &Params,
     opts: &RenderOptions,
 ) -> Result<RadianceImage, RenderError> {
     opts.validate()?;
@@ -353,7 +353,7 @@ pub fn render_radiance(
 
 /// Radiance seen along the ray through the normalised image point `(px, py)` (`[0, 1]^2`, `y`
 /// down), or `None` when the ray misses the square.
-fn shade(params: &BrdfParams, opts: &RenderOptions, cam: &Camera, px: f64, py: f64) -> Option<f64> {
+fn shade(params: &Params, opts: &RenderOptions, cam: &Camera, px: f64, py: f64) -> Option<f64> {
     let sx = (2.0 * px - 1.0) * cam.tan_half * cam.aspect;
     let sy = (1.0 - 2.0 * py) * cam.tan_half;
     let d = [
@@ -446,7 +446,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
 /// Renders `params` with `opts` and writes the PNG to `path` (see [`render_radiance`],
 /// [`tone_map`], [`write_png`]). Returns the linear image (for statistics or tests).
 pub fn render_png(
-    params: &BrdfParams,
+    params: &Params,
     opts: &RenderOptions,
     path: &Path,
 ) -> Result<RadianceImage, RenderError> {
@@ -459,7 +459,7 @@ pub fn render_png(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use brdf_model::{Lobe, named_params};
+    use brdf_model::{BrdfParams, Lobe, named_params};
 
     fn small(opts: RenderOptions) -> RenderOptions {
         RenderOptions {
@@ -473,7 +473,7 @@ mod tests {
     #[test]
     fn dimensions_and_not_black() {
         let opts = small(RenderOptions::default());
-        let img = render_radiance(&named_params("tuning").unwrap(), &opts).unwrap();
+        let img = render_radiance(&named_params("tuning").unwrap().into(), &opts).unwrap();
         assert_eq!((img.width, img.height), (96, 80));
         assert_eq!(img.radiance.len(), 96 * 80);
         let rgb = tone_map(&img, &opts);
@@ -487,10 +487,11 @@ mod tests {
 
     #[test]
     fn phong_highlight_at_mirror_point() {
-        let phong = BrdfParams {
+        let phong: Params = BrdfParams {
             kd: 0.05,
             lobes: vec![Lobe::isotropic(-1.0, 1.0, 400.0)],
-        };
+        }
+        .into();
         let opts = RenderOptions {
             width: 128,
             height: 128,
@@ -512,13 +513,14 @@ mod tests {
 
     #[test]
     fn isotropic_brdf_mirrors_with_the_scene() {
-        let iso = BrdfParams {
+        let iso: Params = BrdfParams {
             kd: 0.1,
             lobes: vec![
                 Lobe::isotropic(-0.9, 0.9, 30.0),
                 Lobe::isotropic(0.5, 0.3, 3.0),
             ],
-        };
+        }
+        .into();
         let a = RenderOptions {
             width: 64,
             height: 48,
@@ -541,7 +543,7 @@ mod tests {
         }
         assert!(max_rel < 1e-9, "max relative difference {max_rel}");
         // The anisotropic tuning BRDF (pan 45 degrees) is not mirror symmetric.
-        let tuning = named_params("tuning").unwrap();
+        let tuning = Params::from(named_params("tuning").unwrap());
         let ta = render_radiance(&tuning, &a).unwrap();
         let tb = render_radiance(&tuning, &b).unwrap();
         let diff: f64 = (0..48)
@@ -554,8 +556,8 @@ mod tests {
     #[test]
     fn cross_differs_from_tuning() {
         let opts = small(RenderOptions::default());
-        let t = render_radiance(&named_params("tuning").unwrap(), &opts).unwrap();
-        let c = render_radiance(&named_params("cross").unwrap(), &opts).unwrap();
+        let t = render_radiance(&named_params("tuning").unwrap().into(), &opts).unwrap();
+        let c = render_radiance(&named_params("cross").unwrap().into(), &opts).unwrap();
         let differ = t
             .radiance
             .iter()
@@ -595,7 +597,7 @@ mod tests {
             },
         ] {
             assert!(matches!(
-                render_radiance(&p, &o),
+                render_radiance(&p.clone().into(), &o),
                 Err(RenderError::InvalidOption(_))
             ));
         }
@@ -606,7 +608,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("sub/tuning.png");
         let opts = small(RenderOptions::default());
-        render_png(&named_params("tuning").unwrap(), &opts, &path).unwrap();
+        render_png(&named_params("tuning").unwrap().into(), &opts, &path).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert!(bytes.len() > 100);
         assert_eq!(&bytes[1..4], b"PNG");

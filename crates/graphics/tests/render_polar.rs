@@ -30,13 +30,13 @@ fn figures_8_and_12_render_differently() {
     let dir = out_dir(&tmp);
     let opts = RenderOptions::default();
     let tuning = render_png(
-        &named_params("tuning").unwrap(),
+        &named_params("tuning").unwrap().into(),
         &opts,
         &dir.join("fig08-tuning.png"),
     )
     .unwrap();
     let cross = render_png(
-        &named_params("cross").unwrap(),
+        &named_params("cross").unwrap().into(),
         &opts,
         &dir.join("fig12-cross.png"),
     )
@@ -86,13 +86,13 @@ fn figure_18_from_cornell_data() {
     });
     plot.curves.push(PolarCurve {
         label: "pbrt-v1 3-lobe fit (Lafortune)".into(),
-        params: named_params("pbrt-bluepaint").unwrap(),
+        params: named_params("pbrt-bluepaint").unwrap().into(),
         color: RGBColor(0, 0, 0),
         dashed: false,
     });
     plot.curves.push(PolarCurve {
         label: "paper Table 6".into(),
-        params: named_params("paper-bluepaint").unwrap(),
+        params: named_params("paper-bluepaint").unwrap().into(),
         color: RGBColor(214, 39, 40),
         dashed: false,
     });

@@ -1,81 +1,21 @@
 //! Data sets (structure of arrays), synthetic instances, filters and subsampling.
 
-use crate::params::{BrdfParams, ParamError};
-use rand::{Rng, RngExt, SeedableRng};
-use rand_distr::StandardNormal;
+use rand::{Rng, RngExt};
 use std::io::Write;
 
 /// BRDF samples stored structure-of-arrays: incident direction `u`, exitant direction `v`
-/// (unit vectors pointing away from the surface, z = normal) and the measured value.
-///
-/// Beside the directions it keeps the products every lobe needs, `P = ux vx`, `Q = uy vy`,
-/// `R = ux vy + uy vx` (one rounding, as a fused multiply-add gives) and `S = uz vz`: they are
-/// the same for every parameter vector, so the kernels read four columns instead of six and
-/// skip recomputing them for each lobe, evaluation and Jacobian column.
-#[derive(Clone, Debug, Default)]
+/// (unit vectors pointing away from the surface, z = normal) and the measured value. What a
+/// model computes from the directions once per data set belongs to the model family
+/// ([`crate::Family::prepare`] makes its [`crate::Samples`]).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DataSet {
-    pub(crate) ux: Vec<f64>,
-    pub(crate) uy: Vec<f64>,
-    pub(crate) uz: Vec<f64>,
-    pub(crate) vx: Vec<f64>,
-    pub(crate) vy: Vec<f64>,
-    pub(crate) vz: Vec<f64>,
-    pub(crate) value: Vec<f64>,
-    pub(crate) pxx: Vec<f64>,
-    pub(crate) pyy: Vec<f64>,
-    pub(crate) pxy: Vec<f64>,
-    pub(crate) pzz: Vec<f64>,
-    /// Changes (to a value never used before) whenever the samples change, so that an
-    /// evaluator can tell that the data behind a cached evaluation are still the same. Clones
-    /// share it: their samples are equal. 0 only for a data set never written to.
-    pub(crate) stamp: u64,
-}
-
-/// Two data sets are equal when their samples are (the stamps do not matter).
-impl PartialEq for DataSet {
-    fn eq(&self, other: &Self) -> bool {
-        self.ux == other.ux
-            && self.uy == other.uy
-            && self.uz == other.uz
-            && self.vx == other.vx
-            && self.vy == other.vy
-            && self.vz == other.vz
-            && self.value == other.value
-    }
-}
-
-/// Source of [`DataSet::stamp`] values.
-static NEXT_STAMP: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
-
-fn fresh_stamp() -> u64 {
-    NEXT_STAMP.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
-}
-
-/// Borrowed columns of a range of samples (what the evaluation kernels read).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct View<'a> {
-    pub(crate) ux: &'a [f64],
-    pub(crate) uy: &'a [f64],
-    pub(crate) uz: &'a [f64],
-    pub(crate) vx: &'a [f64],
-    pub(crate) vy: &'a [f64],
-    pub(crate) vz: &'a [f64],
-    pub(crate) value: &'a [f64],
-    pub(crate) pxx: &'a [f64],
-    pub(crate) pyy: &'a [f64],
-    pub(crate) pxy: &'a [f64],
-    pub(crate) pzz: &'a [f64],
-}
-
-/// The direction products `[P, Q, R, S]` of one sample (see [`DataSet`]).
-#[inline]
-fn products(u: [f64; 3], v: [f64; 3]) -> [f64; 4] {
-    [
-        u[0] * v[0],
-        u[1] * v[1],
-        u[0].mul_add(v[1], u[1] * v[0]),
-        u[2] * v[2],
-    ]
+    ux: Vec<f64>,
+    uy: Vec<f64>,
+    uz: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    vz: Vec<f64>,
+    value: Vec<f64>,
 }
 
 impl DataSet {
@@ -95,11 +35,6 @@ impl DataSet {
             vy: v(),
             vz: v(),
             value: v(),
-            pxx: v(),
-            pyy: v(),
-            pxy: v(),
-            pzz: v(),
-            stamp: 0,
         }
     }
 
@@ -111,7 +46,7 @@ impl DataSet {
             return None;
         }
         let [ux, uy, uz, vx, vy, vz, value] = cols;
-        let mut d = DataSet {
+        Some(DataSet {
             ux,
             uy,
             uz,
@@ -119,48 +54,19 @@ impl DataSet {
             vy,
             vz,
             value,
-            ..DataSet::default()
-        };
-        d.fill_products();
-        Some(d)
+        })
     }
 
-    /// Computes the product columns from the directions.
-    fn fill_products(&mut self) {
-        self.stamp = fresh_stamp();
-        let n = self.len();
-        for c in [&mut self.pxx, &mut self.pyy, &mut self.pxy, &mut self.pzz] {
-            c.clear();
-            c.reserve(n);
-        }
-        for i in 0..n {
-            self.push_products(self.u(i), self.v(i));
-        }
-    }
-
-    fn push_products(&mut self, u: [f64; 3], v: [f64; 3]) {
-        let [p, q, r, s] = products(u, v);
-        self.pxx.push(p);
-        self.pyy.push(q);
-        self.pxy.push(r);
-        self.pzz.push(s);
-    }
-
-    /// Samples `lo..hi` as borrowed columns.
-    pub(crate) fn view(&self, lo: usize, hi: usize) -> View<'_> {
-        View {
-            ux: &self.ux[lo..hi],
-            uy: &self.uy[lo..hi],
-            uz: &self.uz[lo..hi],
-            vx: &self.vx[lo..hi],
-            vy: &self.vy[lo..hi],
-            vz: &self.vz[lo..hi],
-            value: &self.value[lo..hi],
-            pxx: &self.pxx[lo..hi],
-            pyy: &self.pyy[lo..hi],
-            pxy: &self.pxy[lo..hi],
-            pzz: &self.pzz[lo..hi],
-        }
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; 7] {
+        [
+            &mut self.ux,
+            &mut self.uy,
+            &mut self.uz,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.vz,
+            &mut self.value,
+        ]
     }
 
     /// Number of samples.
@@ -182,26 +88,11 @@ impl DataSet {
         self.vy.push(v[1]);
         self.vz.push(v[2]);
         self.value.push(value);
-        self.push_products(u, v);
-        self.stamp = fresh_stamp();
     }
 
     /// Removes all samples, keeping the capacity.
     pub fn clear(&mut self) {
-        self.stamp = fresh_stamp();
-        for c in [
-            &mut self.ux,
-            &mut self.uy,
-            &mut self.uz,
-            &mut self.vx,
-            &mut self.vy,
-            &mut self.vz,
-            &mut self.value,
-            &mut self.pxx,
-            &mut self.pyy,
-            &mut self.pxy,
-            &mut self.pzz,
-        ] {
+        for c in self.columns_mut() {
             c.clear();
         }
     }
@@ -247,55 +138,24 @@ impl DataSet {
         &self.vz
     }
 
-    /// Copies the samples `rows` into `out`, replacing its contents and reusing its capacity
-    /// (no allocation once `out` has grown to `rows.len()`). Rows out of range are skipped.
-    ///
-    /// Column by column, with one fresh stamp for the whole gather: row by row, with a stamp
-    /// from the shared atomic counter per row, this was 8% of AED's CPU time on the tuning
-    /// instance (perf), where every descent gathers its 25-sample subsample.
+    /// Copies the samples `rows` into `out`, replacing its contents and reusing its capacity.
+    /// Rows out of range are skipped.
     pub fn gather_into(&self, rows: &[u32], out: &mut DataSet) {
-        out.clear();
         let n = self.len();
-        let cols = [
-            (&mut out.ux, &self.ux),
-            (&mut out.uy, &self.uy),
-            (&mut out.uz, &self.uz),
-            (&mut out.vx, &self.vx),
-            (&mut out.vy, &self.vy),
-            (&mut out.vz, &self.vz),
-            (&mut out.value, &self.value),
-            (&mut out.pxx, &self.pxx),
-            (&mut out.pyy, &self.pyy),
-            (&mut out.pxy, &self.pxy),
-            (&mut out.pzz, &self.pzz),
+        let kept = || rows.iter().filter(|&&r| (r as usize) < n);
+        let from = [
+            &self.ux,
+            &self.uy,
+            &self.uz,
+            &self.vx,
+            &self.vy,
+            &self.vz,
+            &self.value,
         ];
-        if rows.iter().all(|&r| (r as usize) < n) {
-            // The usual case: a map over the slice has an exact length, so `extend` writes
-            // without a capacity check per element (the filtered form below was 3.9% of
-            // AED's CPU time on the tuning instance, perf).
-            for (dst, from) in cols {
-                dst.extend(rows.iter().map(|&r| from[r as usize]));
-            }
-        } else {
-            for (dst, from) in cols {
-                let kept = rows.iter().filter(|&&r| (r as usize) < n);
-                dst.extend(kept.map(|&r| from[r as usize]));
-            }
+        for (dst, src) in out.columns_mut().into_iter().zip(from) {
+            dst.clear();
+            dst.extend(kept().map(|&r| src[r as usize]));
         }
-    }
-
-    /// RMSE of `params` (scalar reference evaluation) against the values.
-    pub fn rmse_of(&self, params: &BrdfParams) -> f64 {
-        if self.is_empty() {
-            return 0.0;
-        }
-        let ss: f64 = (0..self.len())
-            .map(|i| {
-                let e = params.value(self.u(i), self.v(i)) - self.value[i];
-                e * e
-            })
-            .sum();
-        (ss / self.len() as f64).sqrt()
     }
 
     /// Minimum and maximum value (`None` when empty).
@@ -337,58 +197,6 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// Largest noise standard deviation [`try_synthetic`] accepts: 1000 (model values are of
 /// order 0.1 to 100; the paper uses 0.1).
 pub const MAX_SIGMA: f64 = 1000.0;
-
-/// A synthetic instance as in the paper: `count` samples with incident and exitant directions
-/// drawn independently and uniformly by solid angle over the hemisphere, value
-/// `f(u, v) + sigma * N(0, 1)` (no noise when `sigma == 0`). Seeded: the same `seed` always
-/// gives the same data (PCG64-MCG).
-///
-/// Unchecked, kept for compatibility: a huge `count` aborts on allocation and bad parameters
-/// or `sigma` give NaN or infinite values. Prefer [`try_synthetic`], which gives the same data
-/// when its checks pass.
-pub fn synthetic(params: &BrdfParams, count: usize, sigma: f64, seed: u64) -> DataSet {
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
-    let mut d = DataSet::with_capacity(count);
-    for _ in 0..count {
-        let u = uniform_hemisphere(&mut rng);
-        let v = uniform_hemisphere(&mut rng);
-        let mut y = params.value(u, v);
-        if sigma != 0.0 {
-            let z: f64 = rng.sample(StandardNormal);
-            y += sigma * z;
-        }
-        d.push(u, v, y);
-    }
-    d
-}
-
-/// [`synthetic`] with its inputs checked first: `params` by [`BrdfParams::validate`] (finite,
-/// inside the Table 1 box, at most [`crate::params::MAX_LOBES`] lobes), `count` in
-/// `1..=`[`MAX_SAMPLES`], `sigma` finite in `[0, `[`MAX_SIGMA`]`]`; and every generated value
-/// must be finite (in-box parameters can still overflow, e.g. `cz = 1.5, n = 10000`).
-/// The data are identical to `synthetic(params, count, sigma, seed)`.
-pub fn try_synthetic(
-    params: &BrdfParams,
-    count: usize,
-    sigma: f64,
-    seed: u64,
-) -> Result<DataSet, ParamError> {
-    params.validate()?;
-    if !(1..=MAX_SAMPLES).contains(&count) {
-        return Err(ParamError::SampleCount { count });
-    }
-    if !(sigma.is_finite() && (0.0..=MAX_SIGMA).contains(&sigma)) {
-        return Err(ParamError::Sigma { sigma });
-    }
-    let d = synthetic(params, count, sigma, seed);
-    if let Some(i) = d.value.iter().position(|y| !y.is_finite()) {
-        return Err(ParamError::NonFiniteValue {
-            index: i,
-            value: d.value[i],
-        });
-    }
-    Ok(d)
-}
 
 /// Which samples a reader drops. A sample is counted under the first reason that applies, in
 /// the order: not finite, below the horizon, negative, above the maximum.
@@ -569,46 +377,17 @@ impl Subsampler {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::named_params;
 
-    #[test]
-    fn product_columns_follow_every_way_of_building_a_data_set() {
-        let a = synthetic(&named_params("cross").unwrap(), 300, 0.1, 3);
-        let cols = [
-            a.ux.clone(),
-            a.uy.clone(),
-            a.uz.clone(),
-            a.vx.clone(),
-            a.vy.clone(),
-            a.vz.clone(),
-            a.value.clone(),
-        ];
-        let b = DataSet::from_columns(cols).unwrap();
-        assert_eq!(a, b);
-        let mut c = b.clone();
-        c.clear();
-        let rows: Vec<u32> = (0..300).rev().collect();
-        a.gather_into(&rows, &mut c);
-        for (j, i) in (0..300).rev().enumerate() {
-            let (u, v) = (a.u(i), a.v(i));
-            assert_eq!(c.pxx[j], u[0] * v[0]);
-            assert_eq!(c.pyy[j], u[1] * v[1]);
-            assert_eq!(c.pxy[j], u[0].mul_add(v[1], u[1] * v[0]));
-            assert_eq!(c.pzz[j], u[2] * v[2]);
-        }
-        assert_eq!(c.pxx.len(), c.len());
-    }
-
-    /// Every column follows the rows (repeats kept, out-of-range rows skipped in all columns
-    /// alike), and the gathered set gets a new stamp each time, so kept powers are never
-    /// reused across two gathers.
     #[test]
     fn gather_copies_every_column_and_skips_rows_out_of_range() {
-        let a = synthetic(&named_params("cross").unwrap(), 50, 0.1, 5);
+        let mut a = DataSet::new();
+        for i in 0..50 {
+            let t = f64::from(i) * 0.1;
+            a.push([t.cos(), t.sin(), 0.5], [0.1 * t, -t, 0.9], t * t);
+        }
         let rows = [7u32, 49, 7, 50, 0, u32::MAX, 23];
         let mut sub = DataSet::default();
         a.gather_into(&rows, &mut sub);
-        let first_stamp = sub.stamp;
         let kept = [7usize, 49, 7, 0, 23];
         assert_eq!(sub.len(), kept.len());
         for (j, &i) in kept.iter().enumerate() {
@@ -616,32 +395,9 @@ mod tests {
                 (sub.u(j), sub.v(j), sub.value[j]),
                 (a.u(i), a.v(i), a.value[i])
             );
-            let got = [sub.pxx[j], sub.pyy[j], sub.pxy[j], sub.pzz[j]];
-            assert_eq!(got, [a.pxx[i], a.pyy[i], a.pxy[i], a.pzz[i]]);
         }
-        for c in [&sub.pxx, &sub.pyy, &sub.pxy, &sub.pzz, &sub.value] {
+        for c in [&sub.ux, &sub.vz, &sub.value] {
             assert_eq!(c.len(), kept.len());
-        }
-        a.gather_into(&rows, &mut sub);
-        assert_ne!(sub.stamp, first_stamp);
-    }
-
-    #[test]
-    fn synthetic_is_seeded_and_uniform() {
-        let p = named_params("tuning").unwrap();
-        let a = synthetic(&p, 20000, 0.1, 7);
-        assert_eq!(a, synthetic(&p, 20000, 0.1, 7));
-        assert_ne!(a, synthetic(&p, 20000, 0.1, 8));
-        // cos theta is uniform in [0, 1]: mean 1/2, and the noise has the asked sigma.
-        let mean_z = a.u_z().iter().sum::<f64>() / a.len() as f64;
-        assert!((mean_z - 0.5).abs() < 0.01, "{mean_z}");
-        let rmse = a.rmse_of(&p);
-        assert!((rmse - 0.1).abs() < 0.003, "{rmse}");
-        let clean = synthetic(&p, 100, 0.0, 7);
-        assert_eq!(clean.rmse_of(&p), 0.0);
-        for i in 0..a.len() {
-            let u = a.u(i);
-            assert!(u[2] >= 0.0 && ((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) - 1.0).abs() < 1e-12);
         }
     }
 
@@ -676,7 +432,7 @@ mod tests {
     #[test]
     fn subsampler_draws_distinct_rows_without_allocating() {
         let mut s = Subsampler::new(100);
-        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let mut rng = <rand_pcg::Pcg64Mcg as rand::SeedableRng>::seed_from_u64(3);
         let mut counts = [0usize; 100];
         let ptr = s.perm.as_ptr();
         for _ in 0..2000 {
@@ -696,8 +452,11 @@ mod tests {
         );
         assert_eq!(s.draw(1000, &mut rng).len(), 100);
 
-        let p = named_params("tuning").unwrap();
-        let d = synthetic(&p, 50, 0.0, 1);
+        let mut d = DataSet::new();
+        for i in 0..50 {
+            let t = f64::from(i) * 0.05;
+            d.push([t.sin(), 0.2, t.cos()], [-0.3, t.cos(), t.sin()], t);
+        }
         let mut out = DataSet::with_capacity(10);
         let cap = out.value.capacity();
         d.gather_into(&[3, 1, 4, 99], &mut out);

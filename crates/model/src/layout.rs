@@ -1,15 +1,19 @@
-//! Parameter layouts: which parameters are free, their bounds and internal coordinates.
+//! Parameter layouts: which parameters of a family's lobes are free, their bounds and the
+//! coordinates the optimiser sees.
 //!
-//! Parameters are named `"kd"`, then per lobe `k` (from 1) `"lobeK.cx"`, `"lobeK.cy"`,
-//! `"lobeK.cz"`, `"lobeK.n"`, `"lobeK.pan"` for an anisotropic lobe and `"lobeK.cxy"`,
-//! `"lobeK.cz"`, `"lobeK.n"` for an isotropic one. The free vector seen by an optimiser holds
-//! the free parameters in that order, in *internal* coordinates:
-//! - C's and kd: as they are;
-//! - pan: degrees (so Jacobian columns of pan are per degree);
-//! - n: raw `n` ([`ExponentCoord::Raw`]) or `u = ln(1 + n)` ([`ExponentCoord::Log1p`], the
-//!   default); bounds are mapped the same way.
+//! Parameters are named after the family's fields: the shared ones as they are (`"kd"`), then
+//! per lobe `k` (from 1) `"lobeK.<name>"` for each parameter of the lobe's kind (Lafortune:
+//! `cx, cy, cz, n, pan` for an anisotropic lobe, `cxy, cz, n` for an isotropic one). The free
+//! vector seen by an optimiser holds the free parameters in that order, in *internal*
+//! coordinates: each parameter's [`Coord`] (Lafortune's `n` as `ln(1 + n)` by default, its
+//! other parameters as they are; pan angles in degrees), with [`ExponentCoord::Raw`] putting
+//! every shape parameter ([`Role::Shape`]) in its own units instead; bounds are mapped the same
+//! way.
 
-use crate::params::{BrdfParams, Lobe, parse_lobe_name};
+use crate::data::DataSet;
+use crate::family::{Coord, FamilyRef, FieldDef, LayoutParam, LobeKind, ParamDef, Role};
+use crate::params::{MAX_LOBES, Params};
+use crate::samples::Samples;
 use serde::{Deserialize, Serialize};
 
 /// Errors building a layout.
@@ -23,7 +27,7 @@ pub enum ModelError {
         /// The names of this layout, comma-separated.
         expected: String,
     },
-    /// Bounds with `lo > hi`, non-finite, or (exponent) below 0.
+    /// Bounds with `lo > hi`, non-finite, or outside the coordinate's domain.
     #[error("invalid bounds for `{name}`: [{lo}, {hi}] ({why})")]
     InvalidBounds {
         /// Parameter name.
@@ -47,134 +51,103 @@ pub enum ModelError {
         /// Upper bound.
         hi: f64,
     },
+    /// The family has no lobe of this kind.
+    #[error("the {family} family has no {kind} lobes (it has: {available})")]
+    UnsupportedKind {
+        /// The family.
+        family: String,
+        /// The kind asked for.
+        kind: &'static str,
+        /// The kinds it has.
+        available: String,
+    },
+    /// More lobes than [`MAX_LOBES`].
+    #[error("{count} lobes: expected at most {MAX_LOBES}")]
+    TooManyLobes {
+        /// Lobes asked for.
+        count: usize,
+    },
 }
 
-/// The kind of a lobe.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum LobeKind {
-    /// Cx, Cy, Cz, n, pan: the directions are rotated about the normal by pan.
-    Anisotropic,
-    /// Cxy, Cz, n: Cx = Cy, no pan and no rotation work.
-    Isotropic,
-}
-
-/// Internal coordinate of the specular exponent.
+/// The coordinate of the shape parameters ([`Role::Shape`]: Lafortune's exponent, a
+/// roughness): the spec's `exponent` key.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ExponentCoord {
-    /// The optimiser sees `n` itself.
+    /// The optimiser sees the parameter itself.
     Raw,
-    /// The optimiser sees `u = ln(1 + n)`.
+    /// The optimiser sees the family's log coordinate of it (Lafortune: `u = ln(1 + n)`).
     #[default]
     Log1p,
 }
 
 impl ExponentCoord {
-    /// Physical `n` -> internal coordinate.
+    /// The coordinate a parameter defined as `def` gets under this choice.
+    pub fn coord_of(self, def: &ParamDef) -> Coord {
+        match (self, def.role) {
+            (ExponentCoord::Raw, Role::Shape) => Coord::Identity,
+            _ => def.coord,
+        }
+    }
+
+    /// Lafortune's exponent `n` -> internal coordinate.
     pub fn to_internal(self, n: f64) -> f64 {
-        match self {
-            ExponentCoord::Raw => n,
-            ExponentCoord::Log1p => n.ln_1p(),
-        }
+        self.lafortune().to_internal(n)
     }
-    /// Internal coordinate -> physical `n`.
+
+    /// Internal coordinate -> Lafortune's exponent `n`.
     pub fn to_physical(self, x: f64) -> f64 {
-        match self {
-            ExponentCoord::Raw => x,
-            ExponentCoord::Log1p => x.exp_m1(),
-        }
+        self.lafortune().to_physical(x)
     }
-    /// `dn / dx` at internal coordinate `x` (physical `n`).
+
+    /// `dn / dx` at Lafortune's exponent `n`.
     pub fn dn_dx(self, n: f64) -> f64 {
+        self.lafortune().dv_dx(n)
+    }
+
+    fn lafortune(self) -> Coord {
         match self {
-            ExponentCoord::Raw => 1.0,
-            ExponentCoord::Log1p => 1.0 + n,
+            ExponentCoord::Raw => Coord::Identity,
+            ExponentCoord::Log1p => Coord::Log1p,
         }
     }
 }
 
-/// What a parameter is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Field {
-    Kd,
-    Cx,
-    Cy,
-    Cxy,
-    Cz,
-    N,
-    Pan,
-}
-
-impl Field {
-    fn suffix(self) -> &'static str {
-        match self {
-            Field::Kd => "kd",
-            Field::Cx => "cx",
-            Field::Cy => "cy",
-            Field::Cxy => "cxy",
-            Field::Cz => "cz",
-            Field::N => "n",
-            Field::Pan => "pan",
-        }
-    }
-    fn default_bounds(self) -> (f64, f64) {
-        match self {
-            Field::Kd => (0.0, 1.0),
-            Field::Cx | Field::Cy | Field::Cxy | Field::Cz => (-1.5, 1.5),
-            Field::N => (0.0, 10000.0),
-            Field::Pan => (-90.0, 90.0),
-        }
-    }
-}
-
-/// One parameter of a layout (physical bounds, optional fixed value).
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Param {
-    pub name: String,
-    pub field: Field,
-    /// Zero-based lobe index (unused for kd).
-    pub lobe: usize,
-    pub lo: f64,
-    pub hi: f64,
-    pub fixed: Option<f64>,
-}
-
-/// Builder for [`Layout`]: start from [`Layout::builder`], then fix parameters, override
-/// bounds and choose the exponent coordinate.
+/// Builder for [`Layout`]: start from [`Layout::builder`] or [`Layout::builder_for`], then fix
+/// parameters, override bounds and choose the shape coordinate.
 #[derive(Clone, Debug)]
 pub struct LayoutBuilder {
+    family: FamilyRef,
     kinds: Vec<LobeKind>,
-    params: Vec<Param>,
+    params: Vec<LayoutParam>,
     coord: ExponentCoord,
 }
 
 impl LayoutBuilder {
-    fn find(&mut self, name: &str) -> Result<&mut Param, ModelError> {
-        let expected = || {
-            self.params
-                .iter()
-                .map(|p| p.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
+    fn find(&mut self, name: &str) -> Result<&mut LayoutParam, ModelError> {
         match self.params.iter().position(|p| p.name == name) {
             Some(i) => Ok(&mut self.params[i]),
             None => Err(ModelError::UnknownParameter {
                 name: name.to_string(),
-                expected: expected(),
+                expected: self
+                    .params
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             }),
         }
     }
 
-    /// Fixes parameter `name` at physical `value` (pan in degrees, n raw): it gets no entry in
-    /// the free vector. Checked against the bounds in [`LayoutBuilder::build`].
+    /// Fixes parameter `name` at physical `value` (angles in degrees, shape parameters in
+    /// their own units): it gets no entry in the free vector. Checked against the bounds in
+    /// [`LayoutBuilder::build`].
     pub fn fix(mut self, name: &str, value: f64) -> Result<Self, ModelError> {
         self.find(name)?.fixed = Some(value);
         Ok(self)
     }
 
-    /// Overrides the physical bounds of `name` (pan in degrees, n raw).
+    /// Overrides the physical bounds of `name`.
     pub fn bounds(mut self, name: &str, lo: f64, hi: f64) -> Result<Self, ModelError> {
         let p = self.find(name)?;
         let bad = |why| ModelError::InvalidBounds {
@@ -189,7 +162,13 @@ impl LayoutBuilder {
         if lo > hi {
             return Err(bad("lower bound above upper bound"));
         }
-        if p.field == Field::N && lo < 0.0 {
+        if !p.def.coord.admits(lo) {
+            return Err(bad(match p.def.coord {
+                Coord::Log => "the parameter must be > 0",
+                _ => "the exponent must be >= 0",
+            }));
+        }
+        if p.def.coord == Coord::Log1p && lo < 0.0 {
             return Err(bad("the exponent must be >= 0"));
         }
         p.lo = lo;
@@ -197,15 +176,21 @@ impl LayoutBuilder {
         Ok(self)
     }
 
-    /// Chooses the exponent's internal coordinate (default [`ExponentCoord::Log1p`]).
+    /// Chooses the shape parameters' internal coordinate (default [`ExponentCoord::Log1p`]).
     pub fn exponent_coord(mut self, c: ExponentCoord) -> Self {
         self.coord = c;
         self
     }
 
     /// Validates fixed values against bounds and builds the layout.
-    pub fn build(self) -> Result<Layout, ModelError> {
-        for p in &self.params {
+    pub fn build(mut self) -> Result<Layout, ModelError> {
+        if self.kinds.len() > MAX_LOBES {
+            return Err(ModelError::TooManyLobes {
+                count: self.kinds.len(),
+            });
+        }
+        for p in &mut self.params {
+            p.coord = self.coord.coord_of(&p.def);
             if let Some(v) = p.fixed
                 && !(v.is_finite() && v >= p.lo && v <= p.hi)
             {
@@ -225,16 +210,12 @@ impl LayoutBuilder {
             if p.fixed.is_none() {
                 free.push(i);
                 free_names.push(p.name.clone());
-                let (lo, hi) = if p.field == Field::N {
-                    (self.coord.to_internal(p.lo), self.coord.to_internal(p.hi))
-                } else {
-                    (p.lo, p.hi)
-                };
-                lower.push(lo);
-                upper.push(hi);
+                lower.push(p.coord.to_internal(p.lo));
+                upper.push(p.coord.to_internal(p.hi));
             }
         }
         Ok(Layout {
+            family: self.family,
             kinds: self.kinds,
             params: self.params,
             coord: self.coord,
@@ -246,40 +227,73 @@ impl LayoutBuilder {
     }
 }
 
-/// A parameter layout: lobe kinds, free and fixed parameters, bounds in internal coordinates.
+/// A parameter layout: the family, lobe kinds, free and fixed parameters, bounds in internal
+/// coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    family: FamilyRef,
     kinds: Vec<LobeKind>,
-    pub(crate) params: Vec<Param>,
+    params: Vec<LayoutParam>,
     coord: ExponentCoord,
     /// Indices into `params` of the free parameters, in free-vector order.
-    pub(crate) free: Vec<usize>,
+    free: Vec<usize>,
     free_names: Vec<String>,
     lower: Vec<f64>,
     upper: Vec<f64>,
 }
 
 impl Layout {
-    /// Starts a layout with one lobe per entry of `kinds`, all parameters free, Table 1 bounds
-    /// (C in [-1.5, 1.5], n in [0, 10000], pan in [-90, 90] degrees, kd in [0, 1]).
+    /// A Lafortune layout with one lobe per entry of `kinds`, all parameters free, Table 1
+    /// bounds (C in [-1.5, 1.5], n in [0, 10000], pan in [-90, 90] degrees, kd in [0, 1]).
     pub fn builder(kinds: &[LobeKind]) -> LayoutBuilder {
-        let mut params = vec![param("kd".into(), Field::Kd, 0)];
-        for (k, kind) in kinds.iter().enumerate() {
-            let fields: &[Field] = match kind {
-                LobeKind::Anisotropic => &[Field::Cx, Field::Cy, Field::Cz, Field::N, Field::Pan],
-                LobeKind::Isotropic => &[Field::Cxy, Field::Cz, Field::N],
-            };
-            for &f in fields {
-                params.push(param(format!("lobe{}.{}", k + 1, f.suffix()), f, k));
+        Self::builder_for(&FamilyRef::lafortune(), kinds).expect("Lafortune has both lobe kinds")
+    }
+
+    /// A layout of `family` with one lobe per entry of `kinds`, every parameter free within
+    /// its field's bounds.
+    ///
+    /// # Errors
+    /// [`ModelError::UnsupportedKind`] when the family has no lobe of a kind asked for (more
+    /// than [`MAX_LOBES`] lobes fail in [`LayoutBuilder::build`]).
+    pub fn builder_for(
+        family: &FamilyRef,
+        kinds: &[LobeKind],
+    ) -> Result<LayoutBuilder, ModelError> {
+        let mut params: Vec<LayoutParam> = family
+            .shared_params()
+            .iter()
+            .map(|d| param(family.shared_fields(), d.name.to_string(), *d, None))
+            .collect();
+        for (k, &kind) in kinds.iter().enumerate() {
+            let defs = family
+                .lobe_params(kind)
+                .ok_or_else(|| ModelError::UnsupportedKind {
+                    family: family.name().to_string(),
+                    kind: kind.name(),
+                    available: family
+                        .kinds()
+                        .iter()
+                        .map(|k| k.name())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                })?;
+            for d in defs {
+                let name = format!("lobe{}.{}", k + 1, d.name);
+                params.push(param(family.lobe_fields(), name, *d, Some(k)));
             }
         }
-        LayoutBuilder {
+        Ok(LayoutBuilder {
+            family: family.clone(),
             kinds: kinds.to_vec(),
             params,
             coord: ExponentCoord::default(),
-        }
+        })
     }
 
+    /// The model family.
+    pub fn family(&self) -> &FamilyRef {
+        &self.family
+    }
     /// Number of free parameters (length of the internal vector).
     pub fn dim(&self) -> usize {
         self.free.len()
@@ -300,6 +314,14 @@ impl Layout {
     pub fn all_names(&self) -> Vec<&str> {
         self.params.iter().map(|p| p.name.as_str()).collect()
     }
+    /// Every parameter (free and fixed) in canonical order.
+    pub fn params(&self) -> &[LayoutParam] {
+        &self.params
+    }
+    /// The free parameter at `free_index`.
+    pub fn free_param(&self, free_index: usize) -> Option<&LayoutParam> {
+        self.free.get(free_index).map(|&i| &self.params[i])
+    }
     /// The value a parameter is fixed at (physical), or `None` if it is free or unknown.
     pub fn fixed_value(&self, name: &str) -> Option<f64> {
         self.params.iter().find(|p| p.name == name)?.fixed
@@ -317,39 +339,32 @@ impl Layout {
     pub fn lobe_count(&self) -> usize {
         self.kinds.len()
     }
-    /// The exponent's internal coordinate.
+    /// The shape parameters' internal coordinate.
     pub fn exponent_coord(&self) -> ExponentCoord {
         self.coord
     }
-    /// True when free parameter `free_index` is an exponent `n`.
-    pub fn is_exponent(&self, free_index: usize) -> bool {
-        self.free
-            .get(free_index)
-            .is_some_and(|&i| self.params[i].field == Field::N)
+    /// The coordinate free parameter `free_index` is held in (identity when out of range).
+    pub fn coord(&self, free_index: usize) -> Coord {
+        self.free_param(free_index)
+            .map_or(Coord::Identity, |p| p.coord)
     }
-    /// True when free parameter `free_index` is a pan angle (degrees).
+    /// True when free parameter `free_index` is a shape parameter ([`Role::Shape`]: an
+    /// exponent `n`, a roughness).
+    pub fn is_exponent(&self, free_index: usize) -> bool {
+        self.free_param(free_index)
+            .is_some_and(|p| p.def.role == Role::Shape)
+    }
+    /// True when free parameter `free_index` is an angle in degrees (a pan).
     pub fn is_pan(&self, free_index: usize) -> bool {
-        self.free
-            .get(free_index)
-            .is_some_and(|&i| self.params[i].field == Field::Pan)
+        self.free_param(free_index)
+            .is_some_and(|p| p.def.role == Role::Angle)
     }
 
-    /// Internal free vector -> physical parameters (fixed parameters filled in; isotropic lobes
-    /// get `cx = cy = cxy`, pan 0). Missing entries of a short `x` read as 0.
-    pub fn decode(&self, x: &[f64]) -> BrdfParams {
-        let mut out = BrdfParams {
-            kd: 0.0,
-            lobes: vec![
-                Lobe {
-                    cx: 0.0,
-                    cy: 0.0,
-                    cz: 0.0,
-                    n: 0.0,
-                    pan_deg: 0.0
-                };
-                self.kinds.len()
-            ],
-        };
+    /// Internal free vector -> physical parameters (fixed parameters filled in; tied fields
+    /// take their parameter's value, fields no parameter sets their default). Missing entries
+    /// of a short `x` read as 0.
+    pub fn decode(&self, x: &[f64]) -> Params {
+        let mut out = Params::defaults(self.family.clone(), self.kinds.len());
         let mut next = 0;
         for p in &self.params {
             let v = match p.fixed {
@@ -357,51 +372,40 @@ impl Layout {
                 None => {
                     let v = x.get(next).copied().unwrap_or(0.0);
                     next += 1;
-                    if p.field == Field::N {
-                        self.coord.to_physical(v)
-                    } else {
-                        v
-                    }
+                    p.coord.to_physical(v)
                 }
             };
-            match p.field {
-                Field::Kd => out.kd = v,
-                Field::Cx => out.lobes[p.lobe].cx = v,
-                Field::Cy => out.lobes[p.lobe].cy = v,
-                Field::Cxy => {
-                    out.lobes[p.lobe].cx = v;
-                    out.lobes[p.lobe].cy = v;
-                }
-                Field::Cz => out.lobes[p.lobe].cz = v,
-                Field::N => out.lobes[p.lobe].n = v,
-                Field::Pan => out.lobes[p.lobe].pan_deg = v,
+            let target = match p.lobe {
+                None => out.shared_mut(),
+                Some(k) => out.lobe_mut(k),
+            };
+            for &f in p.def.fields {
+                target[f] = v;
             }
         }
         out
     }
 
-    /// Physical parameters -> internal free vector. Isotropic lobes take `cxy` from `cx`;
-    /// lobes missing from `p` read as zeros. Values are not clamped to the bounds.
-    pub fn encode(&self, p: &BrdfParams) -> Vec<f64> {
+    /// Physical parameters -> internal free vector (a tied parameter takes its first
+    /// field's value); lobes missing from `p` read as zeros. Values are not clamped to the
+    /// bounds. Takes [`Params`] or the Lafortune family's [`crate::BrdfParams`], by reference.
+    pub fn encode(&self, p: impl Into<Params>) -> Vec<f64> {
+        let p: Params = p.into();
         self.free
             .iter()
             .map(|&i| {
                 let q = &self.params[i];
-                let lobe = p.lobes.get(q.lobe).copied().unwrap_or(Lobe {
-                    cx: 0.0,
-                    cy: 0.0,
-                    cz: 0.0,
-                    n: 0.0,
-                    pan_deg: 0.0,
-                });
-                match q.field {
-                    Field::Kd => p.kd,
-                    Field::Cx | Field::Cxy => lobe.cx,
-                    Field::Cy => lobe.cy,
-                    Field::Cz => lobe.cz,
-                    Field::N => self.coord.to_internal(lobe.n),
-                    Field::Pan => lobe.pan_deg,
-                }
+                let f = q.def.fields[0];
+                let v = match q.lobe {
+                    None => p.shared().get(f).copied().unwrap_or(0.0),
+                    Some(k) => p
+                        .lobes()
+                        .get(k)
+                        .and_then(|l| l.get(f))
+                        .copied()
+                        .unwrap_or(0.0),
+                };
+                q.coord.to_internal(v)
             })
             .collect()
     }
@@ -410,31 +414,38 @@ impl Layout {
     pub fn free_index(&self, name: &str) -> Option<usize> {
         self.free_names.iter().position(|n| n == name)
     }
+
+    /// The family's per-sample columns of `data` (what this layout's evaluators read).
+    pub fn prepare(&self, data: &DataSet) -> Samples {
+        self.family.prepare(data)
+    }
 }
 
-fn param(name: String, field: Field, lobe: usize) -> Param {
-    let (lo, hi) = field.default_bounds();
-    Param {
+fn param(fields: &[FieldDef], name: String, def: ParamDef, lobe: Option<usize>) -> LayoutParam {
+    let (lo, hi) = fields[def.fields[0]].bounds;
+    LayoutParam {
         name,
-        field,
+        def,
         lobe,
         lo,
         hi,
+        coord: def.coord,
         fixed: None,
     }
 }
 
-/// Checks that a name has the `lobeK.field` or `kd` shape (used in error messages elsewhere).
+/// Checks that a name has the `lobeK.field` or `kd` shape of a Lafortune parameter (used in
+/// error messages elsewhere).
 pub fn is_parameter_name(name: &str) -> bool {
     name == "kd"
-        || parse_lobe_name(name)
+        || crate::params::parse_lobe_name(name)
             .is_some_and(|(_, f)| matches!(f, "cx" | "cy" | "cxy" | "cz" | "n" | "pan"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::named_params;
+    use crate::{BrdfParams, Lobe, named_params};
 
     #[test]
     fn names_bounds_and_round_trip() {
@@ -475,8 +486,8 @@ mod tests {
                 Lobe::isotropic(0.5, 0.3, 7.0),
             ],
         };
-        let x = l.encode(&p);
-        let q = l.decode(&x);
+        let x = l.encode(&Params::from(&p));
+        let q = BrdfParams::try_from(&l.decode(&x)).unwrap();
         assert!((q.lobes[0].n - 20.0).abs() < 1e-12);
         assert!((q.lobes[1].n - 7.0).abs() < 1e-12);
         assert_eq!(q.lobes[1].cy, 0.5);
@@ -508,7 +519,7 @@ mod tests {
             .unwrap();
         assert_eq!(raw.upper()[4], 10000.0);
         assert_eq!(raw.lower()[5], -90.0);
-        let tuning = named_params("tuning").unwrap();
+        let tuning = Params::from(named_params("tuning").unwrap());
         assert_eq!(raw.decode(&raw.encode(&tuning)), tuning);
         assert!(is_parameter_name("lobe2.cxy") && !is_parameter_name("lobe2.q"));
     }

@@ -1,26 +1,21 @@
-//! Physical parameters of the model and the published parameter sets.
+//! Physical parameters of any family ([`Params`]) and the errors of parameter sets.
 
-use serde::{Deserialize, Serialize};
+use crate::data::DataSet;
+use crate::family::{FamilyRef, FieldDef};
+use serde::ser::SerializeMap;
+use serde::{Serialize, Serializer};
 
-/// Table 1 bounds of `kd` (the same as [`crate::Layout`]'s defaults).
-pub const KD_BOUNDS: (f64, f64) = (0.0, 1.0);
-/// Table 1 bounds of `cx`, `cy` and `cz`.
-pub const C_BOUNDS: (f64, f64) = (-1.5, 1.5);
-/// Table 1 bounds of the exponent `n`.
-pub const N_BOUNDS: (f64, f64) = (0.0, 10000.0);
-/// Table 1 bounds of the pan angle, degrees.
-pub const PAN_BOUNDS: (f64, f64) = (-90.0, 90.0);
-/// Most lobes [`BrdfParams::validate`] accepts (the paper fits up to 3).
+/// Most lobes a parameter set or layout has (the paper fits up to 3).
 pub const MAX_LOBES: usize = 64;
 
 /// Invalid parameters or synthetic-instance settings; each message names the offending
 /// parameter and what was expected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ParamError {
-    /// A parameter is not finite or outside its Table 1 bounds.
+    /// A parameter is not finite or outside its bounds.
     #[error("{name} = {}: expected a finite value in [{lo}, {hi}]", num(*.value))]
     OutOfRange {
-        /// Parameter name as in [`BrdfParams::get`] (`kd`, `lobe1.cz`, `lobe2.pan`, ...).
+        /// Parameter name as in [`Params::get`] (`kd`, `lobe1.cz`, `lobe2.pan`, ...).
         name: String,
         /// The value given.
         value: f64,
@@ -28,6 +23,40 @@ pub enum ParamError {
         lo: f64,
         /// Upper bound.
         hi: f64,
+    },
+    /// A name that is not a parameter or field of the family.
+    #[error("unknown parameter `{name}` of the {family} family (expected one of: {expected})")]
+    UnknownName {
+        /// The name given.
+        name: String,
+        /// The family.
+        family: String,
+        /// The valid names, comma-separated.
+        expected: String,
+    },
+    /// Parameters of one family given where another's are expected.
+    #[error("parameters of the {found} family given where the {expected} family's are expected")]
+    WrongFamily {
+        /// The family expected.
+        expected: String,
+        /// The family given.
+        found: String,
+    },
+    /// A lobe or the shared part has the wrong number of values.
+    #[error("{what}: {found} values, expected {expected}")]
+    WrongLength {
+        /// Which part (`shared fields`, `lobe 2`).
+        what: String,
+        /// Values given.
+        found: usize,
+        /// Values expected.
+        expected: usize,
+    },
+    /// The family's own checks refused the values.
+    #[error("{message}")]
+    Invalid {
+        /// What is wrong, naming the parameter.
+        message: String,
     },
     /// More lobes than [`MAX_LOBES`].
     #[error("{count} lobes: expected at most {MAX_LOBES} (MAX_LOBES)")]
@@ -69,7 +98,7 @@ pub enum ParamError {
 }
 
 /// Formats a number readably: exponent form when huge or tiny (`1e300`, not 301 digits).
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     let a = v.abs();
     if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
         format!("{v:e}")
@@ -78,7 +107,7 @@ fn num(v: f64) -> String {
     }
 }
 
-fn check(
+pub(crate) fn check(
     name: impl FnOnce() -> String,
     value: f64,
     (lo, hi): (f64, f64),
@@ -95,148 +124,37 @@ fn check(
     }
 }
 
-/// One generalised cosine lobe in physical coordinates.
-///
-/// The lobe contributes `max(0, cx u'x v'x + cy u'y v'y + cz uz vz)^n`, where `u'`, `v'` are the
-/// directions rotated about the normal so that the lobe's x axis lies at angle `pan_deg` from the
-/// surface x axis: `u'x = cos(p) ux + sin(p) uy`, `u'y = -sin(p) ux + cos(p) uy`.
-/// An isotropic lobe has `cx == cy` (then `pan_deg` has no effect).
-///
-/// Deserialising refuses unknown fields, so that a typo (`pan = 45`) is an error rather than
-/// a silently ignored key.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Lobe {
-    /// Weight of the x product (after rotation).
-    pub cx: f64,
-    /// Weight of the y product (after rotation).
-    pub cy: f64,
-    /// Weight of the normal (z) product.
-    pub cz: f64,
-    /// Specular exponent (Table 1: `[0, 10000]`).
-    pub n: f64,
-    /// Rotation of the lobe's x axis about the normal, in degrees (Table 1: `[-90, 90]`).
-    #[serde(default)]
-    pub pan_deg: f64,
-}
+/// A parameter set that gives a model value at any pair of directions: what synthetic
+/// instances, polar plots and renders need. [`Params`] (any family) and the Lafortune
+/// family's [`crate::BrdfParams`] implement it.
+pub trait Reflectance {
+    /// The model's value at incident `u` and exitant `v` (both pointing away from the surface,
+    /// z the normal), by the family's scalar reference.
+    fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64;
+    /// Checks the values against the family's bounds (see [`Params::validate`]).
+    fn check(&self) -> Result<(), ParamError>;
 
-impl Lobe {
-    /// An isotropic lobe (`cx = cy = cxy`, no pan).
-    pub fn isotropic(cxy: f64, cz: f64, n: f64) -> Self {
-        Lobe {
-            cx: cxy,
-            cy: cxy,
-            cz,
-            n,
-            pan_deg: 0.0,
+    /// RMSE of the model (its scalar reference) against the values of `data`; 0 when empty.
+    fn rmse_on(&self, data: &DataSet) -> f64 {
+        if data.is_empty() {
+            return 0.0;
         }
-    }
-
-    /// The lobe's value `max(0, d)^n` at directions `u`, `v` (scalar reference using `powf`).
-    ///
-    /// `d <= 0` gives 0 for every `n`, including `n = 0` (the clamp is applied first).
-    pub fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
-        let (s, c) = self.pan_deg.to_radians().sin_cos();
-        let ux = c * u[0] + s * u[1];
-        let uy = -s * u[0] + c * u[1];
-        let vx = c * v[0] + s * v[1];
-        let vy = -s * v[0] + c * v[1];
-        let d = self.cx * (ux * vx) + self.cy * (uy * vy) + self.cz * (u[2] * v[2]);
-        if d > 0.0 { d.powf(self.n) } else { 0.0 }
+        let ss: f64 = (0..data.len())
+            .map(|i| {
+                let e = self.value(data.u(i), data.v(i)) - data.value(i);
+                e * e
+            })
+            .sum();
+        (ss / data.len() as f64).sqrt()
     }
 }
 
-/// A complete parameter set: the constant diffuse term plus any number of lobes.
-///
-/// Deserialising refuses unknown fields; it does not check values: call
-/// [`BrdfParams::validate`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BrdfParams {
-    /// The constant BRDF term (the paper's "Diffuse"); the diffuse albedo is `rho_d = pi * kd`.
-    pub kd: f64,
-    /// The specular lobes.
-    pub lobes: Vec<Lobe>,
-}
-
-impl BrdfParams {
-    /// `f(u, v) = kd + sum_k max(0, d_k)^n_k` (scalar reference using `powf`; both vectors point
-    /// away from the surface, z is the normal).
-    pub fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
-        self.kd + self.lobes.iter().map(|l| l.value(u, v)).sum::<f64>()
+impl Reflectance for Params {
+    fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
+        Params::value(self, u, v)
     }
-
-    /// Checks that every value is finite and inside the paper's Table 1 box ([`KD_BOUNDS`],
-    /// [`C_BOUNDS`] for cx, cy, cz, [`N_BOUNDS`], [`PAN_BOUNDS`]) and that there are at most
-    /// [`MAX_LOBES`] lobes. The error names the first offending parameter, e.g.
-    /// `lobe1.cz = 5: expected a finite value in [-1.5, 1.5]`.
-    pub fn validate(&self) -> Result<(), ParamError> {
-        check(|| "kd".into(), self.kd, KD_BOUNDS)?;
-        if self.lobes.len() > MAX_LOBES {
-            return Err(ParamError::TooManyLobes {
-                count: self.lobes.len(),
-            });
-        }
-        for (k, l) in self.lobes.iter().enumerate() {
-            let k = k + 1;
-            check(|| format!("lobe{k}.cx"), l.cx, C_BOUNDS)?;
-            check(|| format!("lobe{k}.cy"), l.cy, C_BOUNDS)?;
-            check(|| format!("lobe{k}.cz"), l.cz, C_BOUNDS)?;
-            check(|| format!("lobe{k}.n"), l.n, N_BOUNDS)?;
-            check(|| format!("lobe{k}.pan"), l.pan_deg, PAN_BOUNDS)?;
-        }
-        Ok(())
-    }
-
-    /// The diffuse albedo `rho_d = pi * kd`.
-    pub fn rho_d(&self) -> f64 {
-        std::f64::consts::PI * self.kd
-    }
-
-    /// A parameter by name: `"kd"`, `"lobeK.cx"`, `"lobeK.cy"`, `"lobeK.cxy"` (= cx),
-    /// `"lobeK.cz"`, `"lobeK.n"`, `"lobeK.pan"` (degrees), lobes numbered from 1.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        if name == "kd" {
-            return Some(self.kd);
-        }
-        let (k, field) = parse_lobe_name(name)?;
-        let l = self.lobes.get(k)?;
-        Some(match field {
-            "cx" | "cxy" => l.cx,
-            "cy" => l.cy,
-            "cz" => l.cz,
-            "n" => l.n,
-            "pan" => l.pan_deg,
-            _ => return None,
-        })
-    }
-
-    /// Sets a parameter by name (see [`BrdfParams::get`]); `"lobeK.cxy"` sets both cx and cy.
-    /// Returns false when the name does not exist.
-    pub fn set(&mut self, name: &str, value: f64) -> bool {
-        if name == "kd" {
-            self.kd = value;
-            return true;
-        }
-        let Some((k, field)) = parse_lobe_name(name) else {
-            return false;
-        };
-        let Some(l) = self.lobes.get_mut(k) else {
-            return false;
-        };
-        match field {
-            "cx" => l.cx = value,
-            "cy" => l.cy = value,
-            "cxy" => {
-                l.cx = value;
-                l.cy = value;
-            }
-            "cz" => l.cz = value,
-            "n" => l.n = value,
-            "pan" => l.pan_deg = value,
-            _ => return false,
-        }
-        true
+    fn check(&self) -> Result<(), ParamError> {
+        self.validate()
     }
 }
 
@@ -251,135 +169,257 @@ pub(crate) fn parse_lobe_name(name: &str) -> Option<(usize, &str)> {
     Some((k - 1, field))
 }
 
-/// Names accepted by [`named_params`].
-pub const NAMED_PARAMS: [&str; 4] = ["tuning", "cross", "paper-bluepaint", "pbrt-bluepaint"];
+/// A complete physical parameter set of one family: its shared fields (the diffuse term) and
+/// each lobe's fields, in the family's canonical order ([`crate::Family::shared_fields`],
+/// [`crate::Family::lobe_fields`]).
+///
+/// The JSON (and TOML) form is an object: `"family"` (left out for Lafortune, the default),
+/// each shared field by its key, and `"lobes"`, a list of objects of each lobe's fields by key,
+/// e.g. `{"kd": 0.15, "lobes": [{"cx": -1.0, "cy": 0.8, "cz": 0.96, "n": 20.0, "pan_deg":
+/// 45.0}]}`. Unknown keys are refused, fields marked optional may be left out (reading is in
+/// the registry, which knows the families). Reading does not check values: call
+/// [`Params::validate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    family: FamilyRef,
+    shared: Vec<f64>,
+    lobes: Vec<Vec<f64>>,
+}
 
-/// Published parameter sets by name:
-/// - `"tuning"`: the paper's Table 2 (one anisotropic lobe, pan 45 degrees, n 20, kd 0.15);
-/// - `"cross"`: Table 3 (the Table 2 lobe plus the same lobe at pan -45 degrees);
-/// - `"paper-bluepaint"`: Table 6 (the paper's fit of the blue house paint at 550 nm);
-/// - `"pbrt-bluepaint"`: pbrt-v1 `bluepaint.cpp`, green channel (three isotropic lobes,
-///   `kd = 0.39667 / pi`).
-pub fn named_params(name: &str) -> Option<BrdfParams> {
-    let tuning = Lobe {
-        cx: -1.0,
-        cy: 0.8,
-        cz: 0.96,
-        n: 20.0,
-        pan_deg: 45.0,
-    };
-    match name {
-        "tuning" => Some(BrdfParams {
-            kd: 0.15,
-            lobes: vec![tuning],
-        }),
-        "cross" => Some(BrdfParams {
-            kd: 0.15,
-            lobes: vec![
-                tuning,
-                Lobe {
-                    pan_deg: -45.0,
-                    ..tuning
-                },
-            ],
-        }),
-        "paper-bluepaint" => Some(BrdfParams {
-            kd: 0.126,
-            lobes: vec![Lobe::isotropic(0.914, 0.52, 10.21)],
-        }),
-        "pbrt-bluepaint" => Some(BrdfParams {
-            kd: 0.39667 / std::f64::consts::PI,
-            lobes: vec![
-                Lobe::isotropic(0.857255, 0.774290, 18.597755),
-                Lobe::isotropic(-0.406681, 0.017625, 2.581499),
-                Lobe::isotropic(-1.029426, 0.696530, 63.767912),
-            ],
-        }),
-        _ => None,
+impl Params {
+    /// A parameter set from its values.
+    ///
+    /// # Errors
+    /// [`ParamError::WrongLength`] when a part has the wrong number of values.
+    pub fn new(
+        family: FamilyRef,
+        shared: Vec<f64>,
+        lobes: Vec<Vec<f64>>,
+    ) -> Result<Self, ParamError> {
+        let wrong = |what: String, found, expected| ParamError::WrongLength {
+            what,
+            found,
+            expected,
+        };
+        let ns = family.shared_fields().len();
+        if shared.len() != ns {
+            return Err(wrong("shared fields".into(), shared.len(), ns));
+        }
+        let nl = family.lobe_fields().len();
+        if let Some((k, l)) = lobes.iter().enumerate().find(|(_, l)| l.len() != nl) {
+            return Err(wrong(format!("lobe {}", k + 1), l.len(), nl));
+        }
+        Ok(Params {
+            family,
+            shared,
+            lobes,
+        })
+    }
+
+    /// `lobes` lobes with every field at its default (0 where the default is unset).
+    pub fn defaults(family: FamilyRef, lobes: usize) -> Self {
+        let shared = family.shared_fields().iter().map(|f| f.default).collect();
+        let lobe: Vec<f64> = family.lobe_fields().iter().map(|f| f.default).collect();
+        Params {
+            family,
+            shared,
+            lobes: vec![lobe; lobes],
+        }
+    }
+
+    /// The family.
+    pub fn family(&self) -> &FamilyRef {
+        &self.family
+    }
+
+    /// The shared fields' values.
+    pub fn shared(&self) -> &[f64] {
+        &self.shared
+    }
+
+    /// Mutable shared fields.
+    pub fn shared_mut(&mut self) -> &mut [f64] {
+        &mut self.shared
+    }
+
+    /// Number of lobes.
+    pub fn lobe_count(&self) -> usize {
+        self.lobes.len()
+    }
+
+    /// Lobe `k`'s values (from 0).
+    pub fn lobe(&self, k: usize) -> &[f64] {
+        &self.lobes[k]
+    }
+
+    /// Mutable lobe `k` (from 0).
+    pub fn lobe_mut(&mut self, k: usize) -> &mut [f64] {
+        &mut self.lobes[k]
+    }
+
+    /// Every lobe's values.
+    pub fn lobes(&self) -> &[Vec<f64>] {
+        &self.lobes
+    }
+
+    /// Keeps the first `n` lobes (a nested model's parameters).
+    pub fn truncate_lobes(&mut self, n: usize) {
+        self.lobes.truncate(n);
+    }
+
+    /// Appends a lobe (its values in the family's field order).
+    ///
+    /// # Errors
+    /// [`ParamError::WrongLength`] for a wrong number of values.
+    pub fn push_lobe(&mut self, values: Vec<f64>) -> Result<(), ParamError> {
+        let nl = self.family.lobe_fields().len();
+        if values.len() != nl {
+            return Err(ParamError::WrongLength {
+                what: format!("lobe {}", self.lobes.len() + 1),
+                found: values.len(),
+                expected: nl,
+            });
+        }
+        self.lobes.push(values);
+        Ok(())
+    }
+
+    /// The model's value at directions `u`, `v` (the family's scalar reference).
+    pub fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
+        self.family.value(&self.shared, &self.lobes, u, v)
+    }
+
+    /// Every field name of this set, in canonical order (`kd`, `lobe1.cx`, ...).
+    pub fn names(&self) -> Vec<String> {
+        self.family.field_names(self.lobes.len())
+    }
+
+    /// Where a name points: a shared field, or a lobe's fields (one, or several for a tied
+    /// parameter name such as Lafortune's `cxy`).
+    fn locate(&self, name: &str) -> Option<(Option<usize>, Vec<usize>)> {
+        let f = &self.family;
+        if let Some(i) = f.shared_fields().iter().position(|d| d.name == name) {
+            return Some((None, vec![i]));
+        }
+        let (k, rest) = parse_lobe_name(name)?;
+        if k >= self.lobes.len() {
+            return None;
+        }
+        if let Some(i) = f.lobe_fields().iter().position(|d| d.name == rest) {
+            return Some((Some(k), vec![i]));
+        }
+        [crate::LobeKind::Anisotropic, crate::LobeKind::Isotropic]
+            .iter()
+            .filter_map(|&kind| f.lobe_params(kind))
+            .flatten()
+            .find(|p| p.name == rest)
+            .map(|p| (Some(k), p.fields.to_vec()))
+    }
+
+    /// A value by name: a shared field (`kd`), a lobe field (`lobeK.cx`, lobes from 1) or a
+    /// tied parameter (`lobeK.cxy`: its first field).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        let (lobe, fields) = self.locate(name)?;
+        let i = *fields.first()?;
+        Some(match lobe {
+            None => self.shared[i],
+            Some(k) => self.lobes[k][i],
+        })
+    }
+
+    /// Sets a value by name (see [`Params::get`]; a tied name sets all its fields). Returns
+    /// false when the name does not exist.
+    pub fn set(&mut self, name: &str, value: f64) -> bool {
+        let Some((lobe, fields)) = self.locate(name) else {
+            return false;
+        };
+        for i in fields {
+            match lobe {
+                None => self.shared[i] = value,
+                Some(k) => self.lobes[k][i] = value,
+            }
+        }
+        true
+    }
+
+    /// An error naming the valid names, for a name [`Params::get`] does not know.
+    pub fn unknown_name(&self, name: &str) -> ParamError {
+        ParamError::UnknownName {
+            name: name.to_string(),
+            family: self.family.name().to_string(),
+            expected: self.names().join(", "),
+        }
+    }
+
+    /// Checks that every value is finite and inside its field's bounds, that there are at
+    /// most [`MAX_LOBES`] lobes, and the family's own checks. The error names the first
+    /// offending parameter, e.g. `lobe1.cz = 5: expected a finite value in [-1.5, 1.5]`.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.validate_within(|_| None)
+    }
+
+    /// [`Params::validate`] with some bounds replaced: `bounds(name)` gives the bounds to
+    /// use instead of the field's (a spec or `fit` that widened one).
+    pub fn validate_within(
+        &self,
+        bounds: impl Fn(&str) -> Option<(f64, f64)>,
+    ) -> Result<(), ParamError> {
+        let f = &self.family;
+        for (d, &v) in f.shared_fields().iter().zip(&self.shared) {
+            check(|| d.name.to_string(), v, bounds(d.name).unwrap_or(d.bounds))?;
+        }
+        if self.lobes.len() > MAX_LOBES {
+            return Err(ParamError::TooManyLobes {
+                count: self.lobes.len(),
+            });
+        }
+        for (k, lobe) in self.lobes.iter().enumerate() {
+            for (d, &v) in f.lobe_fields().iter().zip(lobe) {
+                let name = format!("lobe{}.{}", k + 1, d.name);
+                let b = bounds(&name).unwrap_or(d.bounds);
+                check(|| name, v, b)?;
+            }
+        }
+        f.check(&self.shared, &self.lobes)
+            .map_err(|message| ParamError::Invalid { message })
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn pbrt_bluepaint_at_normal() {
-        let p = named_params("pbrt-bluepaint").unwrap();
-        let f = p.value([0.0, 0.0, 1.0], [0.0, 0.0, 1.0]);
-        assert!((f - 0.1349).abs() < 5e-5, "{f}");
-        assert!((p.rho_d() - 0.39667).abs() < 1e-12);
+impl From<&Params> for Params {
+    fn from(p: &Params) -> Params {
+        p.clone()
     }
+}
 
-    #[test]
-    fn named_access_round_trips() {
-        let mut p = named_params("cross").unwrap();
-        assert_eq!(p.get("lobe2.pan"), Some(-45.0));
-        assert!(p.set("lobe1.cxy", 0.3));
-        assert_eq!(p.get("lobe1.cy"), Some(0.3));
-        assert_eq!(p.get("lobe3.cx"), None);
-        assert_eq!(p.get("lobe0.cx"), None);
-        assert!(!p.set("bogus", 1.0));
-        for name in NAMED_PARAMS {
-            assert!(named_params(name).is_some());
+impl Serialize for Params {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let f = &self.family;
+        let extra = usize::from(!f.is_lafortune());
+        let mut m = s.serialize_map(Some(extra + self.shared.len() + 1))?;
+        if !f.is_lafortune() {
+            m.serialize_entry("family", f.name())?;
         }
-        assert!(named_params("nope").is_none());
+        for (d, v) in f.shared_fields().iter().zip(&self.shared) {
+            m.serialize_entry(d.key, v)?;
+        }
+        let lobes: Vec<LobeOut<'_>> = self
+            .lobes
+            .iter()
+            .map(|l| LobeOut(f.lobe_fields(), l))
+            .collect();
+        m.serialize_entry("lobes", &lobes)?;
+        m.end()
     }
+}
 
-    #[test]
-    fn bounds_agree_with_layout_and_validate_names_the_parameter() {
-        use crate::{Layout, LobeKind};
-        let layout = Layout::builder(&[LobeKind::Anisotropic]).build().unwrap();
-        assert_eq!(layout.physical_bounds("kd"), Some(KD_BOUNDS));
-        for c in ["cx", "cy", "cz"] {
-            assert_eq!(
-                layout.physical_bounds(&format!("lobe1.{c}")),
-                Some(C_BOUNDS)
-            );
-        }
-        assert_eq!(layout.physical_bounds("lobe1.n"), Some(N_BOUNDS));
-        assert_eq!(layout.physical_bounds("lobe1.pan"), Some(PAN_BOUNDS));
-        for name in NAMED_PARAMS {
-            named_params(name).unwrap().validate().unwrap();
-        }
-        let mut p = named_params("cross").unwrap();
-        p.lobes[0].cz = 5.0;
-        let e = p.validate().unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "lobe1.cz = 5: expected a finite value in [-1.5, 1.5]"
-        );
-        p.lobes[0].cz = 0.5;
-        p.lobes[1].pan_deg = f64::NAN;
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .starts_with("lobe2.pan = NaN")
-        );
-        p.lobes[1].pan_deg = 0.0;
-        p.kd = -0.1;
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .starts_with("kd = -0.1")
-        );
-        p.kd = 0.1;
-        p.lobes[1].n = 1e5;
-        assert!(p.validate().unwrap_err().to_string().contains("[0, 10000]"));
-        p.lobes = vec![Lobe::isotropic(0.0, 1.0, 1.0); MAX_LOBES + 1];
-        assert!(matches!(p.validate(), Err(ParamError::TooManyLobes { .. })));
-    }
+struct LobeOut<'a>(&'static [FieldDef], &'a [f64]);
 
-    #[test]
-    fn reciprocity_and_clamp() {
-        let p = named_params("cross").unwrap();
-        let u = [0.3, -0.4, (1.0f64 - 0.25).sqrt()];
-        let v = [-0.6, 0.1, (1.0f64 - 0.37).sqrt()];
-        assert_eq!(p.value(u, v), p.value(v, u));
-        // d <= 0 gives 0 even with n = 0.
-        let l = Lobe::isotropic(0.0, -1.0, 0.0);
-        assert_eq!(l.value([0.0, 0.0, 1.0], [0.0, 0.0, 1.0]), 0.0);
+impl Serialize for LobeOut<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(self.1.len()))?;
+        for (d, v) in self.0.iter().zip(self.1) {
+            m.serialize_entry(d.key, v)?;
+        }
+        m.end()
     }
 }

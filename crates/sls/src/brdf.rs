@@ -1,17 +1,20 @@
-//! [`BrdfObjective`]: the BRDF fitting problem (brdf-model) as an [`Objective`].
+//! [`BrdfObjective`]: fitting any brdf-model family to a data set, as an [`Objective`].
 
 use crate::SearchRng;
 use crate::objective::{Objective, Rows};
-use brdf_model::{DataSet, Evaluator, ExponentCoord, Kernel, KernelError, Layout, Subsampler};
+use brdf_model::{
+    DataSet, Evaluator, ExponentCoord, Kernel, KernelError, Layout, Samples, Subsampler,
+};
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Fitting a Lafortune BRDF ([`Layout`]) to a data set by RMSE, in the layout's internal
-/// coordinates.
+/// Fitting a BRDF model ([`Layout`], of any family) to a data set by RMSE, in the layout's
+/// internal coordinates. The family's per-sample columns ([`Samples`]) are prepared once and
+/// shared by every trial; subsamples are gathered from them.
 ///
 /// [`Objective::random_pick`] is uniform in those coordinates: with the default
-/// `ExponentCoord::Log1p` the exponent is drawn as `u = ln(1 + n)` uniform in
+/// `ExponentCoord::Log1p` a Lafortune exponent is drawn as `u = ln(1 + n)` uniform in
 /// `[0, ln(1 + n_max)]`, so most picks have moderate `n` and can be evaluated (uniform `n` in
 /// `[0, 10000]` leaves about half the picks unevaluable on the tuning instance: `d^n`
 /// overflows for `d > 1`). With `ExponentCoord::Raw` the pick is uniform in `n`, as in the paper.
@@ -20,6 +23,7 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub struct BrdfObjective {
     data: Arc<DataSet>,
+    samples: Arc<Samples>,
     layout: Layout,
     /// The concrete evaluation kernel every workspace uses.
     kernel: Kernel,
@@ -27,18 +31,21 @@ pub struct BrdfObjective {
     starts: StartDist,
 }
 
-/// The distribution of an exponent `n` in random picks (starts); every other parameter is
-/// uniform in its bounds whatever this says.
+/// The distribution of the shape parameters (a Lafortune exponent `n`, a roughness) in random
+/// picks (starts); every other parameter is uniform in its bounds whatever this says.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum StartDist {
-    /// Uniform in the optimiser's coordinate: log-uniform (`ln(1 + n)` uniform) with
-    /// `ExponentCoord::Log1p`, uniform in `n` with `ExponentCoord::Raw`.
+    /// Uniform in the optimiser's coordinate: log-uniform (the family's log coordinate,
+    /// Lafortune's `ln(1 + n)`, uniform) with `ExponentCoord::Log1p`, uniform in the parameter
+    /// with `ExponentCoord::Raw`.
     #[default]
     Coordinate,
-    /// `n` uniform in its bounds (the paper's starts), whatever the coordinate.
+    /// Uniform in the parameter's own units within its bounds (the paper's starts for `n`),
+    /// whatever the coordinate.
     Uniform,
-    /// `ln(1 + n)` uniform in the image of the bounds, whatever the coordinate.
+    /// Uniform in the family's log coordinate of the parameter (Lafortune: `ln(1 + n)`) over
+    /// the image of the bounds, whatever the coordinate.
     LogUniform,
 }
 
@@ -64,11 +71,11 @@ impl StartDist {
 }
 
 /// Per-trial scratch of a [`BrdfObjective`].
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct BrdfWorkspace {
     evaluator: Evaluator,
     subsampler: Subsampler,
-    subsample: DataSet,
+    subsample: Samples,
     full: bool,
 }
 
@@ -76,8 +83,16 @@ impl BrdfObjective {
     /// The problem of fitting `layout` to `data`, evaluated with the fastest kernel the CPU
     /// has ([`Kernel::Auto`]).
     pub fn new(data: Arc<DataSet>, layout: Layout) -> Self {
+        let samples = Arc::new(layout.prepare(&data));
+        Self::with_samples(data, samples, layout)
+    }
+
+    /// [`BrdfObjective::new`] with the family's samples of `data` already prepared
+    /// ([`Layout::prepare`]), so that several objectives on one data set share them.
+    pub fn with_samples(data: Arc<DataSet>, samples: Arc<Samples>, layout: Layout) -> Self {
         Self {
             data,
+            samples,
             layout,
             kernel: Kernel::Auto.resolve().unwrap_or(Kernel::Portable),
             starts: StartDist::Coordinate,
@@ -95,10 +110,24 @@ impl BrdfObjective {
         kernel: Kernel,
     ) -> Result<Self, KernelError> {
         Ok(Self {
-            data,
-            layout,
             kernel: kernel.resolve()?,
-            starts: StartDist::Coordinate,
+            ..Self::new(data, layout)
+        })
+    }
+
+    /// [`BrdfObjective::with_samples`] with the evaluation kernel `kernel`.
+    ///
+    /// # Errors
+    /// [`KernelError::Unavailable`] when the CPU lacks the requested kernel.
+    pub fn with_samples_and_kernel(
+        data: Arc<DataSet>,
+        samples: Arc<Samples>,
+        layout: Layout,
+        kernel: Kernel,
+    ) -> Result<Self, KernelError> {
+        Ok(Self {
+            kernel: kernel.resolve()?,
+            ..Self::with_samples(data, samples, layout)
         })
     }
 
@@ -114,17 +143,22 @@ impl BrdfObjective {
         self.starts
     }
 
-    /// One exponent in the optimiser's coordinate, drawn from `dist` (resolved, so `Uniform`
-    /// or `LogUniform`) between the internal bounds `lo..=hi`. One draw per call either way,
-    /// so the random stream stays aligned with the other parameters'.
-    fn pick_exponent(&self, dist: StartDist, rng: &mut SearchRng, lo: f64, hi: f64) -> f64 {
-        let coord = self.layout.exponent_coord();
+    /// Free shape parameter `i` in the optimiser's coordinate, drawn from `dist` (resolved, so
+    /// `Uniform` or `LogUniform`) between the internal bounds `lo..=hi`. One draw per call
+    /// either way, so the random stream stays aligned with the other parameters'.
+    fn pick_shape(&self, i: usize, dist: StartDist, rng: &mut SearchRng, lo: f64, hi: f64) -> f64 {
+        let Some(p) = self.layout.free_param(i) else {
+            return lo;
+        };
+        let (coord, log) = (p.coord, p.def.coord);
         let (plo, phi) = (coord.to_physical(lo), coord.to_physical(hi));
-        let n = match dist {
-            StartDist::LogUniform => rng.random_range(plo.ln_1p()..=phi.ln_1p()).exp_m1(),
+        let v = match dist {
+            StartDist::LogUniform => {
+                log.to_physical(rng.random_range(log.to_internal(plo)..=log.to_internal(phi)))
+            }
             _ => rng.random_range(plo..=phi),
         };
-        coord.to_internal(n).clamp(lo, hi)
+        coord.to_internal(v).clamp(lo, hi)
     }
 
     /// The concrete kernel in use (never [`Kernel::Auto`]); `kernel().name()` (`"avx512"`,
@@ -142,6 +176,11 @@ impl BrdfObjective {
     pub fn data(&self) -> &DataSet {
         &self.data
     }
+
+    /// The family's prepared samples of the full data set.
+    pub fn samples(&self) -> &Samples {
+        &self.samples
+    }
 }
 
 impl Objective for BrdfObjective {
@@ -152,7 +191,7 @@ impl Objective for BrdfObjective {
             evaluator: Evaluator::with_kernel(&self.layout, self.kernel)
                 .expect("the kernel was resolved on this CPU when the objective was built"),
             subsampler: Subsampler::new(self.data.len()),
-            subsample: DataSet::new(),
+            subsample: Samples::empty(self.samples.family(), self.samples.column_count()),
             full: true,
         }
     }
@@ -182,7 +221,7 @@ impl Objective for BrdfObjective {
             *xi = if hi <= lo {
                 lo
             } else if dist != native && self.layout.is_exponent(i) {
-                self.pick_exponent(dist, rng, lo, hi)
+                self.pick_shape(i, dist, rng, lo, hi)
             } else {
                 // The default path draws exactly as `Objective::random_pick` does, so seeded
                 // results of existing experiments do not change.
@@ -192,18 +231,18 @@ impl Objective for BrdfObjective {
     }
 
     fn rmse(&self, ws: &mut BrdfWorkspace, x: &[f64]) -> f64 {
-        ws.evaluator.rmse(x, &self.data)
+        ws.evaluator.rmse(x, &self.samples)
     }
 
     fn rmse_below(&self, ws: &mut BrdfWorkspace, x: &[f64], bound: f64) -> (Option<f64>, usize) {
         let n = self.data.len();
         if n == 0 || bound == f64::INFINITY {
-            return (Some(ws.evaluator.rmse(x, &self.data)), n);
+            return (Some(ws.evaluator.rmse(x, &self.samples)), n);
         }
         // The sum-of-squares bound, widened by 1e-12 relative so that `None` means the RMSE is
         // above `bound` beyond any rounding of the square root and division.
         let ss_bound = bound.max(0.0).powi(2) * n as f64 * (1.0 + 1e-12);
-        let s = ws.evaluator.sum_squares_below(x, &self.data, ss_bound);
+        let s = ws.evaluator.sum_squares_below(x, &self.samples, ss_bound);
         // The same arithmetic as `Evaluator::rmse`, so an exact result is identical to it.
         let rmse = s.sum_squares.map(|ss| (ss / n as f64).sqrt());
         (rmse, s.samples)
@@ -214,7 +253,7 @@ impl Objective for BrdfObjective {
         match rows {
             Rows::Subsample(k) if k < n => {
                 let drawn = ws.subsampler.draw(k, rng);
-                self.data.gather_into(drawn, &mut ws.subsample);
+                self.samples.gather_into(drawn, &mut ws.subsample);
                 ws.full = false;
                 k
             }
@@ -226,30 +265,31 @@ impl Objective for BrdfObjective {
     }
 
     fn residuals(&self, ws: &mut BrdfWorkspace, x: &[f64], r: &mut [f64]) -> bool {
-        let data = if ws.full { &self.data } else { &ws.subsample };
+        let data = if ws.full {
+            &self.samples
+        } else {
+            &ws.subsample
+        };
         ws.evaluator.residuals(x, data, r)
     }
 
     fn jacobian(&self, ws: &mut BrdfWorkspace, x: &[f64], jac: &mut [f64]) -> bool {
-        let data = if ws.full { &self.data } else { &ws.subsample };
+        let data = if ws.full {
+            &self.samples
+        } else {
+            &ws.subsample
+        };
         ws.evaluator.jacobian(x, data, jac)
     }
 
-    /// The exponent's physical `n`; every other coordinate is its own natural value.
+    /// The parameter's physical value (a Lafortune exponent's `n`; a coordinate without a
+    /// transformation is its own natural value).
     fn natural_value(&self, i: usize, x: f64) -> f64 {
-        if self.layout.is_exponent(i) {
-            self.layout.exponent_coord().to_physical(x)
-        } else {
-            x
-        }
+        self.layout.coord(i).to_physical(x)
     }
 
     fn optimiser_value(&self, i: usize, v: f64) -> f64 {
-        if self.layout.is_exponent(i) {
-            self.layout.exponent_coord().to_internal(v)
-        } else {
-            v
-        }
+        self.layout.coord(i).to_internal(v)
     }
 }
 
@@ -277,7 +317,7 @@ mod tests {
         let mut ns: Vec<f64> = (0..2001)
             .map(|_| {
                 obj.random_pick(&mut rng, &mut x);
-                let n = layout.decode(&x).lobes[0].n;
+                let n = layout.decode(&x).get("lobe1.n").unwrap();
                 assert!((0.0..=10_000.0).contains(&n), "{n}");
                 n
             })

@@ -8,7 +8,7 @@
 //!
 //! Layers:
 //! - [`Objective`]: the instance (box, full-data RMSE, least-squares problems over subsamples);
-//!   [`BrdfObjective`] implements it for brdf-model data sets.
+//!   [`BrdfObjective`] implements it for any brdf-model family on a data set.
 //! - [`Search`]: what an algorithm may do (random pick, evaluate, descend), implemented by
 //!   [`TrialContext`], which counts sample-evaluations, checks the target and the budget, and
 //!   keeps the best candidate and the anytime trace.
@@ -30,7 +30,7 @@
 //! let result = run_trial(&objective, &aed, 42, budget, 0.01);
 //! assert_eq!(result.stop, StopReason::Target);
 //! let fitted = objective.layout().decode(&result.best_x);
-//! assert!((fitted.kd - 0.15).abs() < 0.02);
+//! assert!((fitted.get("kd").unwrap() - 0.15).abs() < 0.02);
 //! ```
 
 #![warn(missing_docs)]

@@ -36,7 +36,11 @@ fn every_algorithm_reaches_the_target_on_an_easy_instance() {
             );
             assert!(r.best_rmse <= 0.01);
             let p = objective.layout().decode(&r.best_x);
-            assert!((p.kd - 0.15).abs() < 0.02, "{}: {p:?}", config.kind_name());
+            assert!(
+                (p.get("kd").unwrap() - 0.15).abs() < 0.02,
+                "{}: {p:?}",
+                config.kind_name()
+            );
         }
     }
 }

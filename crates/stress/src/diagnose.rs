@@ -14,7 +14,7 @@ mod markdown;
 use crate::svd::svd;
 use crate::{StressError, derive_seed, percentile};
 use bounded_lm::{Options, Problem, Report, SolveError, Solver};
-use brdf_model::{DataSet, Evaluator, Layout};
+use brdf_model::{DataSet, Evaluator, Layout, Samples};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
@@ -125,7 +125,7 @@ pub struct Diagnosis {
 /// evaluator on one data set).
 pub(crate) struct BrdfFit<'a> {
     pub ev: &'a mut Evaluator,
-    pub data: &'a DataSet,
+    pub data: &'a Samples,
 }
 
 impl Problem for BrdfFit<'_> {
@@ -147,7 +147,7 @@ impl Problem for BrdfFit<'_> {
 pub(crate) fn refit(
     ev: &mut Evaluator,
     solver: &mut Solver,
-    data: &DataSet,
+    data: &Samples,
     x: &mut [f64],
 ) -> Result<Report, SolveError> {
     let layout = ev.layout().clone();
@@ -178,10 +178,11 @@ pub fn diagnose(
     if m == 0 {
         return Err(StressError::Invalid("empty data set".into()));
     }
+    let samples = layout.prepare(data);
     let mut ev = Evaluator::new(layout);
     let mut r = vec![0.0; m];
     let mut jac = vec![0.0; m * p];
-    if !ev.residuals_and_jacobian(x, data, &mut r, &mut jac) {
+    if !ev.residuals_and_jacobian(x, &samples, &mut r, &mut jac) {
         return Err(StressError::Invalid(
             "the model cannot be evaluated at x (overflow)".into(),
         ));
@@ -301,7 +302,7 @@ pub fn diagnose(
     } else {
         0.0
     };
-    let refit_rmse = refit_from(layout, data, x);
+    let refit_rmse = refit_from(layout, &samples, x);
     let mut warnings = checks::warnings(
         layout,
         data,
@@ -313,7 +314,7 @@ pub fn diagnose(
         &norms,
     );
     warnings.extend(checks::stationarity(rmse, refit_rmse, predicted_reduction));
-    let bootstrap = (options.bootstrap > 0).then(|| bootstrap(layout, data, x, options));
+    let bootstrap = (options.bootstrap > 0).then(|| bootstrap(layout, &samples, x, options));
     if let Some(b) = &bootstrap {
         warnings.extend(checks::bootstrap_width(
             layout,
@@ -360,7 +361,7 @@ pub fn diagnose(
 }
 
 /// The RMSE after a full-data refit from `x` (`None` when it cannot start or ends non-finite).
-fn refit_from(layout: &Layout, data: &DataSet, x: &[f64]) -> Option<f64> {
+fn refit_from(layout: &Layout, data: &Samples, x: &[f64]) -> Option<f64> {
     let mut ev = Evaluator::new(layout);
     let mut solver = Solver::new();
     let mut x1 = x.to_vec();
@@ -369,7 +370,7 @@ fn refit_from(layout: &Layout, data: &DataSet, x: &[f64]) -> Option<f64> {
     rmse.is_finite().then_some(rmse)
 }
 
-fn bootstrap(layout: &Layout, data: &DataSet, x: &[f64], o: &DiagnoseOptions) -> Bootstrap {
+fn bootstrap(layout: &Layout, data: &Samples, x: &[f64], o: &DiagnoseOptions) -> Bootstrap {
     let m = data.len();
     let fits: Vec<Option<(Vec<f64>, f64)>> = (0..o.bootstrap)
         .into_par_iter()
@@ -378,7 +379,7 @@ fn bootstrap(layout: &Layout, data: &DataSet, x: &[f64], o: &DiagnoseOptions) ->
                 (
                     Evaluator::new(layout),
                     Solver::new(),
-                    DataSet::new(),
+                    Samples::empty(data.family(), data.column_count()),
                     Vec::new(),
                 )
             },
@@ -430,7 +431,7 @@ fn sensitivity(
             .map(|&y| y * (1.0 + e * (2.0 * rng.random::<f64>() - 1.0)))
             .collect(),
     ];
-    let perturbed = DataSet::from_columns(cols).unwrap_or_default();
+    let perturbed = layout.prepare(&DataSet::from_columns(cols).unwrap_or_default());
     let mut ev = Evaluator::new(layout);
     let mut solver = Solver::new();
     let mut x1 = x.to_vec();
@@ -516,7 +517,7 @@ mod tests {
         let mut x = truth.clone();
         let (mut ev, mut solver) = (Evaluator::new(&layout), Solver::new());
         for _ in 0..3 {
-            refit(&mut ev, &mut solver, &data, &mut x).unwrap();
+            refit(&mut ev, &mut solver, &layout.prepare(&data), &mut x).unwrap();
         }
         let d = diagnose(&layout, &data, &x, &o).unwrap();
         assert!(!flagged(&d), "{:?} {}", d.warnings, d.predicted_reduction);

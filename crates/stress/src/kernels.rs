@@ -9,7 +9,9 @@
 use crate::dd::DD;
 use crate::reference::{Reference, Role};
 use crate::{derive_seed, percentile};
-use brdf_model::{DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, uniform_hemisphere};
+use brdf_model::{
+    BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, uniform_hemisphere,
+};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
@@ -410,7 +412,7 @@ pub fn draw_batch(
         // Lobe 1 gets Cz = 1.5 so d = 1.5 at normal incidence (sample 0); its exponent is
         // chosen so that the largest d^n of the batch is 10^t, t in [150, 330].
         set(&mut x, "lobe1.cz".into(), 1.5);
-        let p = layout.decode(&x);
+        let p = BrdfParams::try_from(&layout.decode(&x)).expect("a Lafortune layout");
         let l = p.lobes[0];
         let dmax = (0..BATCH)
             .map(|i| {
@@ -502,13 +504,14 @@ fn one_batch(
     let mut r = vec![0.0; m];
     let mut r2 = vec![0.0; m];
     let mut jac = vec![0.0; m * p];
+    let samples = layout.prepare(data);
     for &level in levels {
         let mut part = Partial::default();
         let mut ev = Evaluator::new(layout);
         // Only available kernels are listed, so this cannot fail.
         let _ = ev.set_kernel(level);
-        let ok_r = ev.residuals(x, data, &mut r);
-        let ok_j = ev.residuals_and_jacobian(x, data, &mut r2, &mut jac);
+        let ok_r = ev.residuals(x, &samples, &mut r);
+        let ok_j = ev.residuals_and_jacobian(x, &samples, &mut r2, &mut jac);
         judge_values(&mut part, &refs, &r, ri, tag, data, "residuals");
         judge_values(
             &mut part,

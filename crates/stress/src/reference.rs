@@ -23,7 +23,7 @@
 //! no fit can see them next to data of 1e-6 or more.
 
 use crate::dd::{DD, DEG, LN_MAX};
-use brdf_model::{ExponentCoord, Layout, LobeKind};
+use brdf_model::{BrdfParams, ExponentCoord, Layout, LobeKind};
 
 /// Allowed kernel `exp`/`ln` error in units of `eps` (exp truncation ~32 eps, ln < 1 ulp, sums).
 pub const K_EXP: f64 = 64.0;
@@ -142,7 +142,7 @@ pub struct Reference {
 impl Reference {
     /// Builds the reference for `layout` at internal vector `x` (fixed parameters filled in).
     pub fn new(layout: &Layout, x: &[f64]) -> Reference {
-        let p = layout.decode(x);
+        let p = BrdfParams::try_from(&layout.decode(x)).expect("a Lafortune layout");
         let coord = layout.exponent_coord();
         let lobes = layout
             .kinds()

@@ -6,7 +6,7 @@ use crate::kernels::{self, KernelSection};
 use crate::suite::{self, SuiteSection};
 use crate::{NamedData, StressError, StressOptions, derive_seed};
 use bounded_lm::Solver;
-use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
+use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, Samples, named_params, synthetic};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use serde::{Deserialize, Serialize};
@@ -361,7 +361,7 @@ fn diagnostics(o: &StressOptions, plan: &Sizes) -> Result<Vec<NamedDiagnosis>, S
         0.01,
         derive_seed(o.seed, 4, 0),
     );
-    let x = fit_from(&aniso, &data, aniso.encode(&tuning));
+    let x = fit_from(&aniso, &aniso.prepare(&data), aniso.encode(&tuning));
     out.push(NamedDiagnosis {
         name: format!(
             "synthetic tuning, {} samples, sigma 0.01",
@@ -378,7 +378,7 @@ fn diagnostics(o: &StressOptions, plan: &Sizes) -> Result<Vec<NamedDiagnosis>, S
         let (u, v) = ([ti.sin(), 0.0, ti.cos()], [to.sin(), 0.0, to.cos()]);
         plane.push(u, v, tuning.value(u, v));
     }
-    let x = fit_from(&aniso, &plane, aniso.encode(&tuning));
+    let x = fit_from(&aniso, &aniso.prepare(&plane), aniso.encode(&tuning));
     out.push(NamedDiagnosis {
         name: "in-plane tuning (incident azimuth 0)".into(),
         layout: "1 anisotropic lobe".into(),
@@ -392,6 +392,7 @@ fn diagnostics(o: &StressOptions, plan: &Sizes) -> Result<Vec<NamedDiagnosis>, S
         let mut rng = Pcg64::seed_from_u64(derive_seed(o.seed, 5, k as u64));
         let mut best: Option<(f64, Vec<f64>)> = None;
         let mut ev = Evaluator::new(&iso);
+        let samples = iso.prepare(data);
         for _ in 0..plan.starts {
             let start: Vec<f64> = iso
                 .lower()
@@ -399,8 +400,8 @@ fn diagnostics(o: &StressOptions, plan: &Sizes) -> Result<Vec<NamedDiagnosis>, S
                 .zip(iso.upper())
                 .map(|(&l, &h)| l + (h - l) * rng.random::<f64>())
                 .collect();
-            let x = fit_from(&iso, data, start);
-            let e = ev.rmse(&x, data);
+            let x = fit_from(&iso, &samples, start);
+            let e = ev.rmse(&x, &samples);
             if best.as_ref().is_none_or(|b| e < b.0) {
                 best = Some((e, x));
             }
@@ -419,7 +420,7 @@ fn diagnostics(o: &StressOptions, plan: &Sizes) -> Result<Vec<NamedDiagnosis>, S
     Ok(out)
 }
 
-fn fit_from(layout: &Layout, data: &DataSet, mut x: Vec<f64>) -> Vec<f64> {
+fn fit_from(layout: &Layout, data: &Samples, mut x: Vec<f64>) -> Vec<f64> {
     let mut ev = Evaluator::new(layout);
     let mut solver = Solver::new();
     // A start that cannot be evaluated keeps x as given; diagnose reports on it.

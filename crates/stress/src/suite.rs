@@ -19,7 +19,9 @@ use crate::diagnose::{BrdfFit, refit};
 use crate::nist::{self, NAMES, NistProblem};
 use bounded_lm::problems::mgh::{self, Mgh};
 use bounded_lm::{Options, Problem, Solver};
-use brdf_model::{BrdfParams, DataSet, Evaluator, Layout, Lobe, LobeKind, named_params, synthetic};
+use brdf_model::{
+    BrdfParams, DataSet, Evaluator, Layout, Lobe, LobeKind, Samples, named_params, synthetic,
+};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
@@ -403,11 +405,12 @@ impl BrdfCase {
         let mut ev = Evaluator::new(&self.layout);
         let mut solver = Solver::new();
         let m = self.data.len();
-        let start_rmse = ev.rmse(&self.start, &self.data);
+        let samples = self.layout.prepare(&self.data);
+        let start_rmse = ev.rmse(&self.start, &samples);
         let rms_y = (self.data.values().iter().map(|v| v * v).sum::<f64>() / m as f64).sqrt();
         let mut x = self.start.clone();
-        let res = refit(&mut ev, &mut solver, &self.data, &mut x);
-        let rmse = ev.rmse(&x, &self.data);
+        let res = refit(&mut ev, &mut solver, &samples, &mut x);
+        let rmse = ev.rmse(&x, &samples);
         let (right, criterion, measured) = match self.expect {
             Expect::Global(tol) => {
                 let scale = if rms_y > 0.0 { rms_y } else { start_rmse };
@@ -425,7 +428,7 @@ impl BrdfCase {
                 )
             }
             Expect::Stationary(tol) => {
-                let cos = stationarity(&mut ev, &self.data, &x);
+                let cos = stationarity(&mut ev, &samples, &x);
                 (
                     cos <= tol || rmse <= GLOBAL_TOL * rms_y.max(f64::MIN_POSITIVE),
                     format!(
@@ -454,7 +457,7 @@ impl BrdfCase {
 /// Largest `|J_j^T r| / (||J_j|| ||r||)` over free columns not held at a bound by the sign
 /// of the gradient and not numerically flat ([`PLATEAU`]); 0 when the residual vanishes;
 /// `inf` when the model cannot be evaluated.
-fn stationarity(ev: &mut Evaluator, data: &DataSet, x: &[f64]) -> f64 {
+fn stationarity(ev: &mut Evaluator, data: &Samples, x: &[f64]) -> f64 {
     let layout = ev.layout().clone();
     let (m, p) = (data.len(), layout.dim());
     let mut fit = BrdfFit { ev, data };

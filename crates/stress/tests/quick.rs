@@ -94,7 +94,7 @@ fn a_wrong_kernel_value_is_detected() {
     .unwrap();
     let mut ev = Evaluator::new(&layout);
     let mut f = vec![0.0; data.len()];
-    assert!(ev.residuals(&x, &data, &mut f));
+    assert!(ev.residuals(&x, &layout.prepare(&data), &mut f));
     let good = kernels::judge(&layout, &x, &data, &f);
     assert_eq!(good.class_mismatches, 0);
     assert!(good.max_normalised <= 1.0, "{good:?}");

@@ -244,7 +244,7 @@ mod tests {
         });
         plot.curves.push(PolarCurve {
             label: "Table 6".into(),
-            params: named_params("paper-bluepaint").unwrap(),
+            params: named_params("paper-bluepaint").unwrap().into(),
             color: RGBColor(214, 39, 40),
             dashed: false,
         });
@@ -253,7 +253,8 @@ mod tests {
             params: BrdfParams {
                 kd: 0.1,
                 lobes: vec![Lobe::isotropic(-1.5, 1.5, 10000.0)],
-            },
+            }
+            .into(),
             color: BLACK,
             dashed: true,
         });

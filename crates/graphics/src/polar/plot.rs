@@ -1,6 +1,6 @@
 //! What a polar figure shows ([`PolarPlot`] and its parts) and the numbers behind each panel.
 
-use brdf_model::{BrdfParams, DataSet};
+use brdf_model::{DataSet, Params};
 use plotters::style::RGBColor;
 
 use super::slice::{InPlaneSample, SliceSelection, model_slice, select_in_plane};
@@ -22,7 +22,7 @@ pub struct PolarCurve {
     /// Legend text.
     pub label: String,
     /// The BRDF.
-    pub params: BrdfParams,
+    pub params: Params,
     /// Line colour.
     pub color: RGBColor,
     /// Dashed instead of solid.

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use brdf_model::{BrdfParams, DataSet};
+use brdf_model::{DataSet, Params};
 
 #[cfg(doc)]
 use super::plot::PolarPlot;
@@ -184,7 +184,7 @@ pub fn default_incident_angles(available: &[(f64, usize)], count: usize) -> Vec<
 /// `(theta_o_deg, f)` evenly spaced from -90 to +90 degrees (signed as in the module docs).
 /// Non-finite values (overflowing lobes) are returned as they are; plots skip them.
 pub fn model_slice(
-    params: &BrdfParams,
+    params: &Params,
     theta_i_deg: f64,
     sel: &SliceSelection,
     steps: usize,
@@ -202,7 +202,7 @@ pub fn model_slice(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use brdf_model::Lobe;
+    use brdf_model::{BrdfParams, Lobe};
 
     pub(crate) fn dir(theta_deg: f64, phi_deg: f64) -> [f64; 3] {
         let (st, ct) = theta_deg.to_radians().sin_cos();
@@ -295,10 +295,11 @@ pub(crate) mod tests {
 
     #[test]
     fn model_slice_peaks_at_the_mirror_direction() {
-        let phong = BrdfParams {
+        let phong: Params = BrdfParams {
             kd: 0.0,
             lobes: vec![Lobe::isotropic(-1.0, 1.0, 50.0)],
-        };
+        }
+        .into();
         let sel = SliceSelection::default();
         let s = model_slice(&phong, 35.0, &sel, 181);
         assert_eq!(s.len(), 181);

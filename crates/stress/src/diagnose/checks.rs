@@ -2,7 +2,7 @@
 //! bounds, stationarity of the point, and bootstrap intervals that disagree with the standard
 //! errors.
 
-use brdf_model::{BrdfParams, DataSet, Layout, LobeKind};
+use brdf_model::{DataSet, Layout, LobeKind, Params};
 
 use super::Bootstrap;
 use crate::svd::svd;
@@ -153,12 +153,14 @@ fn fewest_carriers(layout: &Layout, data: &DataSet, x: &[f64]) -> Option<(usize,
         [data.u_x(), data.u_y(), data.u_z()],
         [data.v_x(), data.v_y(), data.v_z()],
     );
-    (0..params.lobes.len())
+    (0..params.lobe_count())
         .map(|k| {
-            let alone = BrdfParams {
-                kd: 0.0,
-                lobes: vec![params.lobes[k]],
-            };
+            // The lobe alone: no shared (diffuse) term, every other lobe left out.
+            let mut alone = Params::defaults(params.family().clone(), 0);
+            alone.shared_mut().fill(0.0);
+            alone
+                .push_lobe(params.lobe(k).to_vec())
+                .expect("a lobe of the same family");
             let count = (0..data.len())
                 .filter(|&i| {
                     let (u, v) = (dir(us, i), dir(vs, i));
@@ -264,7 +266,7 @@ pub(super) fn warnings(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use brdf_model::Lobe;
+    use brdf_model::{BrdfParams, Lobe};
 
     /// A narrow second lobe carries few samples; intervals 10 times the standard-error ones
     /// are flagged and that lobe is named, intervals of 2 times are not.

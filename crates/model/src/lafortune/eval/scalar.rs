@@ -3,7 +3,9 @@
 //! as in [`g_factors`], so it fails only when `g` itself overflows) or
 //! (when the exponent is free) `d^n ln d` that is not finite fails the evaluation.
 
-use super::*;
+use super::columns::lobe_columns;
+use crate::lafortune::coef::{Coef, Col, JacWork};
+use crate::lafortune::samples::{View, g_factors};
 
 /// `(P, Q, R, S)` and `d` of lobe `c` at sample `i`.
 #[inline]
@@ -39,7 +41,7 @@ pub(super) fn residuals(coefs: &[Coef], kd: f64, d: &View<'_>, r: &mut [f64]) ->
 
 pub(super) fn jacobian(w: &JacWork<'_>, r: &mut [f64], jac: &mut [f64]) -> bool {
     let m = r.len();
-    let d = w.data.view(0, m);
+    let d = w.data;
     for (ri, &y) in r.iter_mut().zip(d.value) {
         *ri = w.kd - y;
     }
@@ -54,7 +56,7 @@ pub(super) fn jacobian(w: &JacWork<'_>, r: &mut [f64], jac: &mut [f64]) -> bool 
     let mut ok = true;
     for (l, c) in w.coefs.iter().enumerate() {
         let (mut cols, rows) = lobe_columns(jac, m, w.cols, l, c);
-        let n_scale = w.coord.dn_dx(c.n);
+        let n_scale = c.n_coord.dv_dx(c.n);
         for i in 0..m {
             let (pqrs, dd) = products(c, &d, i);
             let f = power(dd, c.n);

@@ -1,8 +1,10 @@
 //! The same loops compiled with AVX2 and FMA (and, for the `*512` entry points, AVX-512F
-//! with the hand-written lobe kernels of `crate::avx512`).
+//! with the hand-written lobe kernels of `super::avx512`).
 
-use super::*;
+use super::impls::{jacobian_impl, residuals_impl};
 use crate::fastmath::Fused;
+use crate::lafortune::coef::{AVX512, Coef, GENERIC, JacWork};
+use crate::lafortune::samples::View;
 
 /// # Safety
 /// The CPU must support AVX2 and FMA.

@@ -1,7 +1,12 @@
 //! The generic per-lobe loops of the AVX2 and portable kernels: values (and the kept powers)
 //! in chunk-wise stages, and the values with the Jacobian's factors `g` and `h`.
 
-use super::*;
+use crate::fastmath::{
+    MulAdd, all_exp_normal, ln_clamped, ln_clamped_normal, no_subnormal, pow_from_ln,
+    pow_from_ln_normal,
+};
+use crate::lafortune::coef::Coef;
+use crate::lafortune::samples::{View, g_factors};
 
 /// Samples per pass of the generic lobe loops. Each loop over a chunk does one stage (the
 /// direction products, the logarithm, the exponential): a whole `d^n` is a dependency chain
@@ -9,7 +14,7 @@ use super::*;
 /// (Zen 1's 192 micro-ops hold less than one 256-bit iteration) can overlap, while each stage
 /// alone is short enough for several iterations to be in flight. The arithmetic is the same
 /// as computing `d^n` sample by sample, so the results are bit-identical. On Zen 5 too an
-/// AVX2 kernel written with intrinsics in one pass (as `crate::avx512`) was slower than these
+/// AVX2 kernel written with intrinsics in one pass (as `super::avx512`) was slower than these
 /// staged loops in every run (docs/performance.md).
 pub(super) const CHUNK: usize = 64;
 
@@ -132,7 +137,7 @@ pub(super) fn direction_products<A: MulAdd, const R: bool>(
 #[inline(always)]
 pub(super) fn lobe_full<A: MulAdd, const R: bool>(
     c: &Coef,
-    d: &DataSet,
+    d: &View<'_>,
     lo: usize,
     out: &mut [f64],
     g: &mut [f64],
@@ -200,21 +205,10 @@ pub(super) fn finish_powers<A: MulAdd, const NORMAL: bool>(
     }
 }
 
-/// Factors `(a, b)` with `g = n d^n / d = (d^n a / d) b` computed without a spurious overflow:
-/// `(1, n)` for `n >= 1` (then `d^n / d = d^(n-1)` is at most `max(1, d^n)`, so `n (d^n / d)`
-/// overflows only when `g` does) and `(n, 1)` for `n < 1` (then `n d^n <= d^n`). Multiplying by
-/// 1 is exact, so each case rounds exactly as `n (d^n / d)` or `(n d^n) / d`. Computing
-/// `n d^n / d` left to right overflowed for large `n` with `d > 1` (e.g. `d = 1.5`,
-/// `n = 1732.55`: `d^n = 1.2e305` but `n d^n = 2.1e308`, while `g = 1.41e308`).
-#[inline(always)]
-pub(crate) fn g_factors(n: f64) -> (f64, f64) {
-    if n >= 1.0 { (1.0, n) } else { (n, 1.0) }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fastmath::Fused;
+    use crate::fastmath::{Fused, Plain};
 
     fn coef(n: f64) -> Coef {
         Coef {
@@ -231,6 +225,7 @@ mod tests {
             sin2: 0.0,
             cos2: 0.0,
             no_r: true,
+            n_coord: crate::family::Coord::Identity,
         }
     }
 

@@ -1,7 +1,9 @@
 //! The direction columns of the generic Jacobian: `g` times a weighted sum of the products
 //! `P, Q, R, S`, with the structural zero weights left out.
 
-use super::*;
+use crate::fastmath::MulAdd;
+use crate::lafortune::coef::{Coef, Col, Field};
+use crate::lafortune::samples::View;
 
 /// `col_i = g_i (a P + b Q + c R + e S)` for samples `lo..lo + col.len()`, `w = [a, b, c, e]`.
 /// Every direction column but Cz's has `e = 0` and Cz's is `[0, 0, 0, 1]`; those weights are
@@ -9,7 +11,7 @@ use super::*;
 /// the sign of a zero entry and took 9 to 15% off the AVX2 and portable Jacobians
 /// (docs/performance.md).
 #[inline(always)]
-pub(super) fn column<A: MulAdd>(d: &DataSet, lo: usize, g: &[f64], col: &mut [f64], w: [f64; 4]) {
+pub(super) fn column<A: MulAdd>(d: &View<'_>, lo: usize, g: &[f64], col: &mut [f64], w: [f64; 4]) {
     match Weights::of(w) {
         Weights::Pqr(w) => column_with::<A>(d, lo, g, col, |p, q, r, _| pqr::<A>(&w, p, q, r)),
         Weights::S => column_with::<A>(d, lo, g, col, |_, _, _, s| s),
@@ -22,7 +24,7 @@ pub(super) fn column<A: MulAdd>(d: &DataSet, lo: usize, g: &[f64], col: &mut [f6
 /// `col_i = g_i t(P_i, Q_i, R_i, S_i)` for samples `lo..lo + col.len()`.
 #[inline(always)]
 pub(super) fn column_with<A: MulAdd>(
-    d: &DataSet,
+    d: &View<'_>,
     lo: usize,
     g: &[f64],
     col: &mut [f64],
@@ -78,7 +80,7 @@ pub(super) fn pqr<A: MulAdd>(w: &[f64; 3], p: f64, q: f64, r: f64) -> f64 {
 /// all four, each entry computed as [`column`] computes it.
 #[inline(always)]
 pub(super) fn four_columns<A: MulAdd>(
-    d: &DataSet,
+    d: &View<'_>,
     lo: usize,
     g: &[f64],
     cols: [&mut [f64]; 4],
@@ -154,13 +156,15 @@ pub(super) fn lobe_columns<'j>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fastmath::Fused;
+    use crate::fastmath::{Fused, Plain};
+    use crate::lafortune::samples::view;
+    use crate::samples::Samples;
 
     /// Directions from a small grid with many zero and negative products, and a `g` with
     /// zeros, so that the columns meet zero sums and zero factors of both signs.
-    fn column_data() -> (DataSet, Vec<f64>) {
+    fn column_data() -> (Samples, Vec<f64>) {
         let axis = [-1.0, -0.6, 0.0, 0.6, 1.0];
-        let mut data = DataSet::new();
+        let mut data = crate::DataSet::new();
         for &a in &axis {
             for &b in &axis {
                 for &c in &[0.0, 0.5, 1.0] {
@@ -177,15 +181,16 @@ mod tests {
                 }
             })
             .collect();
-        (data, g)
+        (crate::lafortune::prepare(&data), g)
     }
 
     /// Every column of [`column`] and [`four_columns`] with the structural zero weights left
     /// out equals the full weighted sum (values compared with `==`: only the sign of a zero may
     /// differ), for the weights of Cx, Cy, Cz, pan, the isotropic Cxy and arbitrary ones.
     fn check_columns<A: MulAdd>() {
-        let (data, g) = column_data();
-        let m = data.len();
+        let (samples, g) = column_data();
+        let m = samples.len();
+        let data = view(&samples, 0, m);
         let (c, s) = (0.3f64.cos(), 0.3f64.sin());
         let rows = [
             [c * c, s * s, c * s, 0.0],

@@ -4,7 +4,7 @@
 
 #![cfg(target_arch = "x86_64")]
 
-use crate::data::View;
+use super::samples::{View, g_factors};
 use crate::fastmath::{EXP_FLUSH_K, EXP_TAYLOR, LG, LN2_HI, LN2_LO};
 use std::arch::x86_64::*;
 
@@ -197,7 +197,7 @@ pub(crate) unsafe fn lobe_jacobian(
 ) -> bool {
     let nn = splat(n);
     // g = n d^n / d without a spurious overflow of n d^n (see `g_factors`).
-    let (ga, gb) = crate::eval::g_factors(n);
+    let (ga, gb) = g_factors(n);
     let k = JacConsts {
         n_is_zero: n == 0.0,
         ga: splat(ga),

@@ -1,0 +1,38 @@
+//! The parameter-independent geometry the microfacet-style families share: the directions and
+//! the half vector, as prepared columns.
+
+/// Column of `u`'s x component; `u` takes columns `U..U + 3`.
+pub const U: usize = 0;
+/// First column of `v`.
+pub const V: usize = 3;
+/// First column of the unit half vector `h = (u + v) / |u + v|`.
+pub const H: usize = 6;
+/// Column of `u . h` (equal to `v . h`).
+pub const UH: usize = 9;
+/// The number of columns [`half_vector_columns`] writes.
+pub const COLUMNS: usize = 10;
+
+/// Writes `u`, `v`, the unit half vector and `u . h` into `cols` (at least [`COLUMNS`] long).
+/// For `v = -u` (no half vector; impossible for two directions above the surface) `h` is the
+/// normal.
+pub fn half_vector_columns(u: [f64; 3], v: [f64; 3], cols: &mut [f64]) {
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    let h = if len > 0.0 {
+        [s[0] / len, s[1] / len, s[2] / len]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    cols[U..U + 3].copy_from_slice(&u);
+    cols[V..V + 3].copy_from_slice(&v);
+    cols[H..H + 3].copy_from_slice(&h);
+    cols[UH] = (u[0] * h[0] + u[1] * h[1] + u[2] * h[2]).clamp(0.0, 1.0);
+}
+
+/// The in-plane components `(x', y')` of `(x, y)` in a frame rotated by the pan angle
+/// (`cos p`, `sin p`): `x' = cos(p) x + sin(p) y`, `y' = -sin(p) x + cos(p) y`, as in the
+/// Lafortune family.
+#[inline(always)]
+pub fn rotate(c: f64, s: f64, x: f64, y: f64) -> (f64, f64) {
+    (c * x + s * y, c * y - s * x)
+}

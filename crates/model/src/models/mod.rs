@@ -1,0 +1,5 @@
+//! The model families beyond Lafortune, each a [`crate::lobes::LobeShape`]: the formula, its
+//! derivatives, its parameters and bounds, with the source of the formula in each module.
+
+pub mod geometry;
+pub mod ggx;
