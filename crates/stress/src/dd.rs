@@ -153,6 +153,20 @@ impl DD {
         y + LN2 * shift
     }
 
+    /// The square root (one Newton step from the `f64` root: full double-double accuracy);
+    /// 0 for `self <= 0`.
+    pub fn sqrt(self) -> DD {
+        if self.hi <= 0.0 {
+            return DD::ZERO;
+        }
+        if !self.hi.is_finite() {
+            return DD::INF;
+        }
+        let s = self.hi.sqrt();
+        let r = (self - DD::prod(s, s)) / (2.0 * s);
+        DD::new(s) + r
+    }
+
     /// `(sin x, cos x)` for `|x| <= 2` by the Taylor series (terms fall below 1e-34).
     pub fn sin_cos(self) -> (DD, DD) {
         debug_assert!(self.hi.abs() <= 2.0);

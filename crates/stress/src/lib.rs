@@ -4,7 +4,9 @@
 //! says whether every check held (the `stress` command exits non-zero otherwise):
 //! 1. [`kernels`]: every evaluation kernel the CPU runs against a double-double reference
 //!    ([`dd`], [`reference`](mod@reference)) over the whole Table 1 box, its edges and the overflow boundary:
-//!    value errors in ulps, Jacobian column errors, NaN/inf and overflow-flag mismatches.
+//!    value errors in ulps, Jacobian column errors, NaN/inf and overflow-flag mismatches;
+//!    and [`families`]: every other model family against a double-double reference of its
+//!    own formula.
 //! 2. [`suite`]: the solver on problems with known answers: NIST StRD ([`nist`]), the
 //!    Moré-Garbow-Hillstrom hook, and hostile BRDF fits.
 //! 3. [`diagnose`](mod@diagnose): diagnostics of a fit (singular values, standard errors, correlations,
@@ -18,6 +20,7 @@
 
 pub mod dd;
 pub mod diagnose;
+pub mod families;
 pub mod kernels;
 pub mod nist;
 pub mod reference;

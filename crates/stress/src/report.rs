@@ -2,6 +2,7 @@
 //! and Markdown / JSON output.
 
 use crate::diagnose::{DiagnoseOptions, Diagnosis, diagnose, refit};
+use crate::families::{self, FamilySection};
 use crate::kernels::{self, KernelSection};
 use crate::suite::{self, SuiteSection};
 use crate::{NamedData, StressError, StressOptions, derive_seed};
@@ -55,6 +56,9 @@ pub struct StressReport {
     pub seconds: [f64; 4],
     /// Section 1.
     pub kernels: KernelSection,
+    /// Section 1b: the other model families against their double-double references.
+    #[serde(default)]
+    pub families: FamilySection,
     /// Section 2.
     pub suite: SuiteSection,
     /// Section 3.
@@ -211,6 +215,34 @@ impl StressReport {
                 let _ = writeln!(s, "\nFirst mismatch: {m}");
             }
         }
+        let _ = writeln!(
+            s,
+            "\n## 1b. Model families against double-double\n\n{} batches of {} direction \
+             pairs per family: one anisotropic lobe, one isotropic lobe or two lobes; points \
+             uniform in the box, at the sharpest and widest shape, at the edges of the linear \
+             parameters, and grazing directions. Value errors relative to the reference value; \
+             Jacobian errors relative to the column's largest entry, against central \
+             differences of the reference in double-double.\n",
+            self.families.batches,
+            families::BATCH
+        );
+        let _ = writeln!(
+            s,
+            "| family | kernel | values | max value error | max Jacobian error | mismatches | NaN |\n|---|---|---|---|---|---|---|"
+        );
+        for f in &self.families.stats {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.2e} | {:.2e} | {} | {} |",
+                f.family,
+                f.kernel,
+                f.values,
+                f.max_value_error,
+                f.max_jacobian_error,
+                f.mismatches,
+                f.nans
+            );
+        }
         let su = &self.suite;
         let _ = writeln!(
             s,
@@ -318,6 +350,7 @@ pub(crate) fn run_all(o: &StressOptions) -> Result<StressReport, StressError> {
     };
     let sets: Vec<&DataSet> = o.data.iter().map(|d| &d.data).collect();
     let kernels = kernels::run(plan.batches, derive_seed(o.seed, 1, 0), &sets);
+    let families = families::run((plan.batches / 20).max(15), derive_seed(o.seed, 4, 0));
     done("kernels");
     let t1 = t0.elapsed().as_secs_f64();
     let suite = suite::run_with(derive_seed(o.seed, 2, 0), plan.subsamples, &done);
@@ -325,7 +358,8 @@ pub(crate) fn run_all(o: &StressOptions) -> Result<StressReport, StressError> {
     let diagnostics = diagnostics(o, &plan)?;
     done("diagnostics");
     let t3 = t0.elapsed().as_secs_f64();
-    let checks = checks(&kernels, &suite, &diagnostics);
+    let mut checks = checks(&kernels, &suite, &diagnostics);
+    checks.extend(family_checks(&families));
     Ok(StressReport {
         quick: o.quick,
         seed: o.seed,
@@ -336,10 +370,49 @@ pub(crate) fn run_all(o: &StressOptions) -> Result<StressReport, StressError> {
             .collect(),
         seconds: [t1, t2 - t1, t3 - t2, t3],
         kernels,
+        families,
         suite,
         diagnostics,
         checks,
     })
+}
+
+/// Largest relative value error a family's kernel may show against its double-double
+/// reference.
+const FAMILY_VALUE_TOLERANCE: f64 = 1e-12;
+/// Largest Jacobian error (relative to the column's largest entry) against central
+/// differences of the reference.
+const FAMILY_JACOBIAN_TOLERANCE: f64 = 1e-8;
+
+fn family_checks(f: &FamilySection) -> Vec<Check> {
+    let mut c = Vec::new();
+    for s in &f.stats {
+        let who = format!("{} ({})", s.family, s.kernel);
+        c.push(check(
+            &format!("{who}: value error against double-double"),
+            s.max_value_error <= FAMILY_VALUE_TOLERANCE,
+            format!("{:.2e}", s.max_value_error),
+            "<= 1e-12 relative",
+            "the formulas are sums and products of well-conditioned terms (the fast exp and \
+             ln are within a few ulps); a wrong formula or a cancellation is off by far more",
+        ));
+        c.push(check(
+            &format!("{who}: Jacobian error against double-double differences"),
+            s.max_jacobian_error <= FAMILY_JACOBIAN_TOLERANCE,
+            format!("{:.2e}", s.max_jacobian_error),
+            "<= 1e-8 of the column's scale",
+            "an analytic derivative is exact to rounding; a missing or wrong term of the chain \
+             rule shows at 1e-3 or worse",
+        ));
+        c.push(check(
+            &format!("{who}: NaN and success mismatches"),
+            s.nans == 0 && s.mismatches == 0,
+            format!("{} NaN, {} mismatches", s.nans, s.mismatches),
+            "0",
+            "inside the box every value is finite: an evaluation must neither fail nor give NaN",
+        ));
+    }
+    c
 }
 
 /// Section 3 on a synthetic tuning instance (noise 0.01, the truth known), the same
