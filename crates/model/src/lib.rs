@@ -33,6 +33,7 @@ mod fastmath;
 pub mod io;
 pub mod layout;
 pub mod params;
+pub mod published;
 
 pub use data::{
     DataSet, FilterReport, Filters, MAX_SAMPLES, MAX_SIGMA, Subsampler, synthetic, try_synthetic,
