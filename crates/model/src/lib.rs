@@ -39,6 +39,7 @@ pub mod layout;
 pub mod lobes;
 pub mod models;
 pub mod params;
+pub mod published;
 mod registry;
 pub mod samples;
 mod synthetic;
