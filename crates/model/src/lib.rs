@@ -21,7 +21,7 @@
 //!   its loops chosen by [`Kernel`] (the kernel vocabulary of `brdf-simd`, re-exported); pan
 //!   Jacobian columns are per degree.
 //! - [`data`]: [`DataSet`], [`synthetic`], [`Filters`], [`FilterReport`], [`Subsampler`].
-//! - [`io`]: Cornell, CSV and MERL readers (formats documented there).
+//! - [`io`]: Cornell, CSV, MERL and ALTA readers behind one [`Format`] (documented there).
 
 #![warn(missing_docs)]
 
@@ -39,6 +39,7 @@ pub use data::{
     uniform_hemisphere,
 };
 pub use eval::{Evaluator, Kernel, KernelError, SUM_BLOCK, SumBelow};
+pub use io::Format;
 pub use io::{
     Channel, DataError, MerlBrdf, parse_cornell, parse_csv, read_cornell, read_csv, read_merl,
 };
