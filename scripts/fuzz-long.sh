@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Long fuzz run of the reader and parameter properties (crates/model/tests/fuzz_readers.rs):
-# parse_cornell, parse_csv, MerlBrdf::from_bytes, parameter JSON + validate + try_synthetic,
-# and the try_synthetic limits; and of the spec parser (crates/harness/tests/fuzz_spec.rs).
+# parse_cornell, parse_csv, the ALTA reader (io::parse), MerlBrdf::from_bytes, parameter
+# JSON + validate + try_synthetic, and the try_synthetic limits; and of the spec parser
+# (crates/harness/tests/fuzz_spec.rs).
 # Then the probes from outside (crates/harness/tests/probes.rs): FIFOs and links to them as
 # specs, results files, results folders and output files for every command that reads or
 # writes them; absurd --threads and budgets; huge labels; a locked folder; edited results.
@@ -9,8 +10,8 @@
 # and reports the total number of executions.
 #
 # Usage: scripts/fuzz-long.sh [CASES]
-#   CASES  cases per property (default: $PROPTEST_CASES, else 200000; 6 properties give
-#          1,200,000 executions). FUZZ_THREADS sets the test threads (default 2).
+#   CASES  cases per property (default: $PROPTEST_CASES, else 200000; 7 properties give
+#          1,400,000 executions). FUZZ_THREADS sets the test threads (default 2).
 # Exits non-zero when a property fails (proptest prints the minimal failing input).
 set -uo pipefail
 cd "$(dirname "$0")/.."

@@ -24,7 +24,7 @@
 //! - [`synthetic()`], [`try_synthetic`]: synthetic instances of any family.
 //! - [`samples`]: [`Samples`], a family's per-sample columns of a data set.
 //! - [`data`]: [`DataSet`], [`synthetic`], [`Filters`], [`FilterReport`], [`Subsampler`].
-//! - [`io`]: Cornell, CSV and MERL readers (formats documented there).
+//! - [`io`]: Cornell, CSV, MERL and ALTA readers behind one [`Format`] (documented there).
 
 #![warn(missing_docs)]
 
@@ -52,6 +52,7 @@ pub use evaluate::{Evaluate, all_finite, grown};
 pub use family::{
     Coord, DEFAULT_FAMILY, Family, FamilyRef, FieldDef, LayoutParam, LobeKind, ParamDef, Role,
 };
+pub use io::Format;
 pub use io::{
     Channel, DataError, MerlBrdf, parse_cornell, parse_csv, read_cornell, read_csv, read_merl,
 };

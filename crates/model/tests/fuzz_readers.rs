@@ -1,5 +1,5 @@
 //! Property tests ("fuzzing") of everything that turns outside input into model data: the
-//! Cornell and CSV parsers, the MERL binary parser, parameter JSON (serde of `BrdfParams`)
+//! Cornell, CSV and ALTA parsers (ALTA with every format option), the MERL binary parser, parameter JSON (serde of `BrdfParams`)
 //! with `BrdfParams::validate`, and `try_synthetic`. Each property asserts no panic and either
 //! `Ok` with consistent data or an error whose message names the input and what was
 //! expected.
@@ -9,7 +9,7 @@
 //! property prints `FUZZ <name>: <n> executions` (visible with `--nocapture`).
 
 use brdf_model::data::{MAX_SAMPLES, try_synthetic};
-use brdf_model::io::MAX_WAVELENGTHS;
+use brdf_model::io::{AltaInput, AltaOutput, Format, MAX_WAVELENGTHS};
 use brdf_model::params::ParamError;
 use brdf_model::{
     BrdfParams, DataError, DataSet, FilterReport, Filters, MerlBrdf, parse_cornell, parse_csv,
@@ -196,6 +196,115 @@ fn fuzz_parse_csv() {
     run("parse_csv", (text, filters()), |(t, f)| {
         check_read(parse_csv(&t, path, &f), "fuzz.csv", &f)
     });
+}
+
+/// A plausible ALTA file: header lines (supported, unsupported and junk values, comments,
+/// repeats, in any order), then rows of tokens.
+fn alta_text() -> impl Strategy<Value = String> {
+    let mut ins: Vec<String> = AltaInput::ALL
+        .iter()
+        .map(|p| p.name().to_string())
+        .collect();
+    ins.extend(["STARK_2D", "RUSIN_TH_TD", "UNKNOWN_INPUT", ""].map(String::from));
+    let mut outs: Vec<String> = AltaOutput::ALL
+        .iter()
+        .map(|p| p.name().to_string())
+        .collect();
+    outs.extend(["ENERGY", "XYZ_COLOR", "inv_steradian"].map(String::from));
+    let line = prop_oneof![
+        3 => (0usize..8, 0usize..5).prop_map(|(n, p)| format!("#DIM {n} {p}")),
+        1 => token().prop_map(|t| format!("#DIM {t}")),
+        3 => prop::sample::select(ins).prop_map(|p| format!("#PARAM_IN {p}")),
+        3 => prop::sample::select(outs).prop_map(|p| format!("#PARAM_OUT {p}")),
+        1 => (0usize..4).prop_map(|v| format!("#VS {v}")),
+        1 => prop::sample::select(vec![
+            "#FORMAT text", "#FORMAT binary", "#ALTA END HEADER", "#ALTA HEADER DATA",
+            "# DIM 3 1", "#SAMPLE \"x\"", "#", "#1", "",
+        ])
+        .prop_map(str::to_string),
+    ];
+    (
+        prop::collection::vec(line, 0..7),
+        prop::collection::vec(prop::collection::vec(token(), 0..10), 0..8),
+    )
+        .prop_map(|(head, rows)| {
+            let mut s = head.join("\n");
+            s.push('\n');
+            for r in rows {
+                s += &r.join(" ");
+                s.push('\n');
+            }
+            s
+        })
+}
+
+/// Well-formed ALTA headers for each supported pair of parameterisations, then rows of
+/// numbers (some of the right length): most cases get past the header.
+fn alta_valid_text() -> impl Strategy<Value = String> {
+    (
+        prop::sample::select(AltaInput::ALL.to_vec()),
+        prop::sample::select(AltaOutput::ALL.to_vec()),
+        prop::collection::vec(
+            prop::collection::vec(
+                prop_oneof![4 => (-4.0f64..4.0).prop_map(|v| v.to_string()), 1 => token()],
+                0..10,
+            ),
+            0..8,
+        ),
+    )
+        .prop_map(|(i, o, rows)| {
+            let mut s = format!(
+                "#DIM {} {}\n#PARAM_IN {}\n#PARAM_OUT {}\n",
+                i.dimension(),
+                o.dimension(),
+                i.name(),
+                o.name()
+            );
+            for r in rows {
+                s += &r.join(" ");
+                s.push('\n');
+            }
+            s
+        })
+}
+
+fn alta_format() -> impl Strategy<Value = Format> {
+    let channel = prop_oneof![
+        2 => Just(None),
+        1 => prop::sample::select(vec![
+            brdf_model::Channel::Red,
+            brdf_model::Channel::Green,
+            brdf_model::Channel::Blue,
+        ])
+        .prop_map(Some),
+    ];
+    let out = prop_oneof![
+        2 => Just(None),
+        1 => prop::sample::select(AltaOutput::ALL.to_vec()).prop_map(Some),
+    ];
+    (channel, out).prop_map(|(channel, param_out)| Format::Alta { channel, param_out })
+}
+
+#[test]
+fn fuzz_parse_alta() {
+    let path = Path::new("fuzz.alta");
+    let text = prop_oneof![
+        3 => alta_text(),
+        3 => alta_valid_text(),
+        1 => text_of_tokens(),
+        1 => raw_text()
+    ];
+    run(
+        "parse_alta",
+        (text, alta_format(), filters()),
+        |(t, format, f)| {
+            check_read(
+                brdf_model::io::parse(t.as_bytes(), path, &format, &f),
+                "fuzz.alta",
+                &f,
+            )
+        },
+    );
 }
 
 /// MERL: arbitrary bytes, and headers with chosen dims followed by a payload of the right

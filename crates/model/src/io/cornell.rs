@@ -1,47 +1,46 @@
 //! The Cornell text reader (`*.brdf`; format in the [`io`](crate::io) module docs).
 
-use super::limits::{MAX_SAMPLES, MAX_WAVELENGTHS, check_text_len, sample_limit};
-use super::lines::{LineSource, short};
-use super::{DataError, dir_from_angles, open};
+use super::format::Format;
+use super::limits::MAX_WAVELENGTHS;
+use super::lines::{LineSource, Sample, read_samples, short};
+use super::{DataError, dir_from_angles};
 use crate::data::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 use std::path::Path;
 
 /// Reads a Cornell `.brdf` file at wavelength `wavelength_nm` (must match one listed in the
-/// file within 1e-6 nm), applying `filters`. The file is streamed (see the module docs for
-/// the limits).
+/// file within 1e-6 nm), applying `filters`: [`super::read`] with [`Format::Cornell`]. The
+/// file is streamed (see the module docs for the limits).
 pub fn read_cornell(
     path: impl AsRef<Path>,
     wavelength_nm: f64,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
-    let path = path.as_ref();
-    let file = std::io::BufReader::new(open(path)?);
-    cornell_from(LineSource::new(file, path), path, wavelength_nm, filters)
+    super::read(path.as_ref(), &Format::Cornell { wavelength_nm }, filters)
 }
 
-/// Parses Cornell text already in memory; `path` is only used in errors.
+/// Parses Cornell text already in memory; `path` is only used in errors: [`super::parse`]
+/// with [`Format::Cornell`].
 pub fn parse_cornell(
     text: &str,
     path: &Path,
     wavelength_nm: f64,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
-    check_text_len(text, path)?;
-    cornell_from(
-        LineSource::new(text.as_bytes(), path),
+    super::parse(
+        text.as_bytes(),
         path,
-        wavelength_nm,
+        &Format::Cornell { wavelength_nm },
         filters,
     )
 }
 
-fn cornell_from<R: BufRead>(
+pub(super) fn cornell_from<R: BufRead>(
     mut lines: LineSource<'_, R>,
-    path: &Path,
     wavelength_nm: f64,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
+    let path = lines.path();
     let perr = |line: usize, expected: String, found: String| DataError::Parse {
         path: path.to_path_buf(),
         line,
@@ -105,16 +104,9 @@ fn cornell_from<R: BufRead>(
             wavelength_nm,
             available: wls.clone(),
         })?;
-    let mut data = DataSet::new();
-    let mut rep = FilterReport::default();
     let width = 4 + nwl;
     let mut row = [0.0f64; 5];
-    let mut rows = 0usize;
-    while let Some((ln, l)) = lines.next_line()? {
-        rows += 1;
-        if rows > MAX_SAMPLES {
-            return Err(sample_limit(path, ln));
-        }
+    read_samples(&mut lines, filters, |ln, l| {
         let mut count = 0usize;
         for tok in l.split_whitespace() {
             let v: f64 = tok.parse().map_err(|_| {
@@ -140,12 +132,8 @@ fn cornell_from<R: BufRead>(
         }
         let u = dir_from_angles(row[0], row[1]);
         let v = dir_from_angles(row[2], row[3]);
-        let y = row[4];
-        if filters.admit(u, v, y, &mut rep) {
-            data.push(u, v, y);
-        }
-    }
-    Ok((data, rep))
+        Ok(Sample::new(u, v, row[4]))
+    })
 }
 
 #[cfg(test)]

@@ -1,36 +1,34 @@
 //! The CSV reader (vector or angle columns; format in the [`io`](crate::io) module docs).
 
-use super::limits::{MAX_SAMPLES, check_text_len, sample_limit};
-use super::lines::{LineSource, short};
-use super::{DataError, dir_from_angles, open};
+use super::format::Format;
+use super::lines::{LineSource, Sample, read_samples, short};
+use super::{DataError, dir_from_angles};
 use crate::data::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 use std::path::Path;
 
-/// Reads a CSV file (format in the module docs), applying `filters`. The file is streamed
-/// (see the module docs for the limits).
+/// Reads a CSV file (format in the module docs), applying `filters`: [`super::read`] with
+/// [`Format::Csv`]. The file is streamed (see the module docs for the limits).
 pub fn read_csv(
     path: impl AsRef<Path>,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
-    let path = path.as_ref();
-    let file = std::io::BufReader::new(open(path)?);
-    csv_from(LineSource::new(file, path), path, filters)
+    super::read(path.as_ref(), &Format::Csv, filters)
 }
 
-/// Parses CSV already in memory; `path` is only used in errors.
+/// Parses CSV already in memory; `path` is only used in errors: [`super::parse`] with
+/// [`Format::Csv`].
 pub fn parse_csv(
     text: &str,
     path: &Path,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
-    check_text_len(text, path)?;
-    csv_from(LineSource::new(text.as_bytes(), path), path, filters)
+    super::parse(text.as_bytes(), path, &Format::Csv, filters)
 }
 
 /// Normalises a direction given by finite or non-finite components: `Ok(None)` for a zero
 /// vector, non-finite components are passed through (the filters count them).
-fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
+pub(super) fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
     if a.iter().any(|c| !c.is_finite()) {
         return Some(a);
     }
@@ -44,11 +42,11 @@ fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
     Some([b[0] / len, b[1] / len, b[2] / len])
 }
 
-fn csv_from<R: BufRead>(
+pub(super) fn csv_from<R: BufRead>(
     mut lines: LineSource<'_, R>,
-    path: &Path,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
+    let path = lines.path();
     let perr = |line: usize, expected: String, found: String| DataError::Parse {
         path: path.to_path_buf(),
         line,
@@ -90,15 +88,8 @@ fn csv_from<R: BufRead>(
     for (j, &c) in cols.iter().enumerate() {
         slot[c] = Some(j);
     }
-    let mut data = DataSet::new();
-    let mut rep = FilterReport::default();
     let mut vals = [0.0f64; 7];
-    let mut rows = 0usize;
-    while let Some((ln, l)) = lines.next_line()? {
-        rows += 1;
-        if rows > MAX_SAMPLES {
-            return Err(sample_limit(path, ln));
-        }
+    read_samples(&mut lines, filters, |ln, l| {
         let mut count = 0usize;
         for (k, tok) in l.split(',').enumerate() {
             count += 1;
@@ -121,8 +112,8 @@ fn csv_from<R: BufRead>(
                 format!("{count} fields"),
             ));
         }
-        let (u, v, y) = if angles {
-            (
+        Ok(if angles {
+            Sample::new(
                 dir_from_angles(vals[0].to_radians(), vals[1].to_radians()),
                 dir_from_angles(vals[2].to_radians(), vals[3].to_radians()),
                 vals[4],
@@ -133,17 +124,13 @@ fn csv_from<R: BufRead>(
                     perr(ln, format!("a non-zero direction {what}"), format!("{a:?}"))
                 })
             };
-            (
+            Sample::new(
                 norm([vals[0], vals[1], vals[2]], "u")?,
                 norm([vals[3], vals[4], vals[5]], "v")?,
                 vals[6],
             )
-        };
-        if filters.admit(u, v, y, &mut rep) {
-            data.push(u, v, y);
-        }
-    }
-    Ok((data, rep))
+        })
+    })
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@ use super::DataError;
 use crate::data::DataSet;
 use std::path::Path;
 
-/// Largest text input (Cornell, CSV) read, in bytes: 1 GiB. A longer input is refused with
+/// Largest text input (Cornell, CSV, ALTA) read, in bytes: 1 GiB. A longer input is refused with
 /// [`DataError::Limit`] after reading `MAX_INPUT_BYTES + 1` bytes.
 pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 
@@ -26,7 +26,7 @@ pub const MAX_MERL_DIM: usize = 4096;
 /// Largest MERL file, in bytes: 512 MiB (the real files have 34,992,012 bytes).
 pub const MAX_MERL_BYTES: u64 = 512 << 20;
 
-pub(super) fn check_text_len(text: &str, path: &Path) -> Result<(), DataError> {
+pub(super) fn check_text_len(text: &[u8], path: &Path) -> Result<(), DataError> {
     if text.len() as u64 > MAX_INPUT_BYTES {
         return Err(DataError::Limit {
             path: path.to_path_buf(),

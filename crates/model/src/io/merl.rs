@@ -1,5 +1,6 @@
 //! The MERL binary table: reading, writing, lookup and sampling ([`MerlBrdf`], [`Channel`]).
 
+use super::format::{Format, FormatError};
 use super::limits::{MAX_MERL_BYTES, MAX_MERL_DIM};
 use super::{DataError, dir_from_angles, io_err, open};
 use crate::data::{DataSet, FilterReport, Filters};
@@ -20,7 +21,20 @@ pub enum Channel {
 }
 
 impl Channel {
-    fn index(self) -> usize {
+    /// Every channel, in file order.
+    pub const ALL: [Channel; 3] = [Channel::Red, Channel::Green, Channel::Blue];
+
+    /// The channel's name as in specs and on the command line: `red`, `green` or `blue`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Red => "red",
+            Channel::Green => "green",
+            Channel::Blue => "blue",
+        }
+    }
+
+    /// Position of the channel in a file's channel order (red 0, green 1, blue 2).
+    pub(super) fn index(self) -> usize {
         self as usize
     }
     fn scale(self) -> f64 {
@@ -29,6 +43,28 @@ impl Channel {
             Channel::Green => 1.15 / 1500.0,
             Channel::Blue => 1.66 / 1500.0,
         }
+    }
+}
+
+impl std::fmt::Display for Channel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Channel {
+    type Err = FormatError;
+
+    /// A channel by name (`red`, `green`, `blue`; any case, surrounding spaces ignored); an
+    /// unknown name is an error listing the names.
+    fn from_str(s: &str) -> Result<Self, FormatError> {
+        let t = s.trim();
+        Channel::ALL
+            .into_iter()
+            .find(|c| c.name().eq_ignore_ascii_case(t))
+            .ok_or_else(|| FormatError::UnknownChannel {
+                found: s.to_string(),
+            })
     }
 }
 
@@ -259,11 +295,12 @@ impl MerlBrdf {
     }
 }
 
-/// Reads a MERL file and samples `channel` on its own grid (see [`MerlBrdf::sample_grid`]).
+/// Reads a MERL file and samples `channel` on its own grid (see [`MerlBrdf::sample_grid`]):
+/// [`super::read`] with [`Format::Merl`].
 pub fn read_merl(
     path: impl AsRef<Path>,
     channel: Channel,
     filters: &Filters,
 ) -> Result<(DataSet, FilterReport), DataError> {
-    Ok(MerlBrdf::read(path)?.sample_grid(channel, filters))
+    super::read(path.as_ref(), &Format::Merl { channel }, filters)
 }

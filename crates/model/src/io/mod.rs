@@ -1,5 +1,20 @@
 //! Readers for measured data.
 //!
+//! # One entry point
+//! A data format and its options are one value, [`Format`]: `Cornell { wavelength_nm }`,
+//! `Csv`, `Merl { channel }` or `Alta { channel, param_out }`, each with documented defaults.
+//! [`Format::from_path`] picks one by the file's extension (`.brdf` Cornell, `.csv` CSV,
+//! `.binary`/`.merl` MERL, `.alta`/`.dat` ALTA; see [`EXTENSIONS`]) and refuses an unknown
+//! or missing extension with [`DataError::UnknownFormat`], which names the file and lists the
+//! known extensions: there is no default format. [`Format::from_name`] takes a name,
+//! serde takes a name or a `kind`-tagged table. [`Format::validate`] is the one check of the
+//! options (a finite, positive wavelength; an ALTA channel only for RGB values), run by
+//! [`read`], [`parse`] and deserialisation alike. [`read`] (a file) and [`parse`] (bytes in
+//! memory) are the one entry point of every reader; [`read_cornell`], [`read_csv`],
+//! [`read_merl`], [`parse_cornell`] and [`parse_csv`] are thin wrappers kept for their
+//! callers. The text readers (Cornell, CSV, ALTA) share one line loop: blank lines and `#`
+//! comments skipped, the limits below, line numbers in errors.
+//!
 //! Every reader fails with a [`DataError`] naming the file, the line (text formats) and what
 //! was expected; none panics, aborts or loops on bad input. Input is bounded: text files by
 //! [`MAX_INPUT_BYTES`] in total and [`MAX_LINE_BYTES`] per line, MERL files by
@@ -50,15 +65,85 @@
 //! green 1.15/1500, blue 1.66/1500. Negative entries mark samples below the horizon: they are
 //! counted (and dropped) as [`FilterReport::below_horizon`] when the filters drop
 //! below-horizon samples.
+//!
+//! # ALTA text format (`*.alta`, `*.dat`)
+//! The text format of ALTA (<https://github.com/mkae/alta>, documented in its
+//! `documents/data-formats.dox`), used by its retro-reflection measurements. A header of
+//! `#KEY value` lines (`#` directly followed by a letter; `# ` and other `#` lines are
+//! comments), ended by the first data line or `#ALTA END HEADER`, then one sample per line:
+//! `N` input numbers, `P` output numbers and, with `#VS 1` or `#VS 2`, one or two
+//! confidence-interval numbers (read and ignored), separated by white space. Header keys read:
+//! - `#DIM N P` (required): must be the input parameterisation's `N` and the output's `P`;
+//! - `#PARAM_IN` (required): one of the input parameterisations below;
+//! - `#PARAM_OUT`: `INV_STERADIAN` (the BRDF, `P = 1`), `INV_STERADIAN_COSINE_FACTOR` (the
+//!   BRDF times `cos(theta_in)`, `P = 1`) or `RGB_COLOR` (the BRDF per colour, `P = 3`: the
+//!   format's `channel` picks one, green by default as for MERL). A file without it is
+//!   refused unless the format's `param_out` option says what the values are (one of ALTA's
+//!   shipped files, `retro-gray-tape.dat`, has none); when both are present they must agree;
+//! - `#VS 0|1|2` (default 0; only 0 with `P = 3`);
+//! - `#FORMAT text` (optional; ALTA's binary format is refused).
+//!
+//! Other keys (`#SAMPLE`, `#ORIGIN`, `#URL`, `#CMD`, ...) are ignored; a key given twice, an
+//! unsupported parameterisation, or a `#DIM` that does not match is refused with an error
+//! naming the file, the line and the supported values. `ENERGY`, `XYZ_COLOR` and every other
+//! input parameterisation are refused, never guessed.
+//!
+//! **Directions.** ALTA packs a direction pair as `[V, L]` (view first, `params.h`, enum
+//! `CARTESIAN`); the light `L` is our incident `u`, the view `V` our exitant `v`, both unit
+//! vectors pointing away from the surface, z = normal; angles in radians. As ALTA's
+//! `params::to_cartesian`:
+//! - `ISOTROPIC_TL_TV_PROJ_DPHI` `[theta_l, a, b]`: `u = (sin theta_l, 0, cos theta_l)`,
+//!   `v = (a/t sin t, b/t sin t, cos t)` with `t = hypot(a, b)` (`v = (0, 0, 1)` at `t = 0`);
+//! - `ISOTROPIC_TV_TL_DPHI` `[theta_v, theta_l, dphi]`: `v = (sin theta_v, 0, cos theta_v)`,
+//!   `u = (sin theta_l cos dphi, sin theta_l sin dphi, cos theta_l)`;
+//! - `RUSIN_TH_TD_PD` `[theta_h, theta_d, phi_d]` and `RUSIN_TH_PH_TD_PD`
+//!   `[theta_h, phi_h, theta_d, phi_d]`: `v` is the difference vector
+//!   `(sin theta_d cos phi_d, sin theta_d sin phi_d, cos theta_d)` turned by `theta_h` about y,
+//!   then by `phi_h` about z; `u = 2 (v . h) h - v` with the half vector
+//!   `h = (sin theta_h cos phi_h, sin theta_h sin phi_h, cos theta_h)`;
+//! - `SPHERICAL_TL_PL_TV_PV` `[theta_l, phi_l, theta_v, phi_v]`: the two directions in
+//!   spherical coordinates;
+//! - `CARTESIAN` `[V.x, V.y, V.z, L.x, L.y, L.z]`: normalised on reading (a zero vector is an
+//!   error).
+//!
+//! (ALTA's inverse conversion, `params::from_cartesian`, takes `b` with the opposite sign for
+//! `ISOTROPIC_TL_TV_PROJ_DPHI`: a mirror image in the incidence plane, the same BRDF for the
+//! isotropic materials this parameterisation is for; the reader follows `to_cartesian`, the
+//! conversion ALTA applies to data it reads.)
+//!
+//! For the isotropic parameterisations (the first three) the pair is then rotated about the
+//! normal so that the incident direction lies in the x-z plane (`phi_in = 0`, `u.x >= 0`);
+//! for `ISOTROPIC_TL_TV_PROJ_DPHI` it already does. Reduced parameterisations (fewer numbers
+//! than an isotropic pair needs, e.g. `RUSIN_TH_TD`) are refused: they do not determine a
+//! direction pair.
+//!
+//! **Values.** `INV_STERADIAN_COSINE_FACTOR` values are divided by `cos(theta_in) = u.z`, as
+//! ALTA's `nonlinear_fitter_eigen` compares such data with `cos(theta_L) f` (its `params.h`
+//! comment says "the output direction"; the fitter's use is what the data were fitted
+//! with). Below
+//! [`ALTA_MIN_COSINE`] (grazing or below-horizon incidence) there is no BRDF value: the sample
+//! is marked below the horizon and counted in [`FilterReport::below_horizon`] by filters that
+//! drop such samples; with filters that keep them its value is NaN (then counted in
+//! [`FilterReport::non_finite`] unless the filters keep everything).
+//!
+//! **Data.** ALTA's measurements of three retro-reflective tapes (CEA-CESTA, see
+//! <https://hal.inria.fr/hal-01083366/>) live in ALTA's `documents/data/`. ALTA is under
+//! MPL-2.0 and its authors ask to be contacted before reuse, so the files are not shipped
+//! here; `scripts/fetch-alta-data.sh DIR` downloads them and checks their SHA-256
+//! (`docs/model.md` lists them).
 
+mod alta;
 mod cornell;
 mod csv;
+mod format;
 mod limits;
 mod lines;
 mod merl;
 
+pub use alta::{ALTA_MIN_COSINE, AltaInput, AltaOutput};
 pub use cornell::{parse_cornell, read_cornell};
 pub use csv::{parse_csv, read_csv};
+pub use format::{DEFAULT_CHANNEL, EXTENSIONS, FORMAT_NAMES, Format, FormatError, parse, read};
 pub use limits::{
     MAX_INPUT_BYTES, MAX_LINE_BYTES, MAX_MERL_BYTES, MAX_MERL_DIM, MAX_SAMPLES, MAX_WAVELENGTHS,
 };
@@ -111,6 +196,29 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
+    /// The format cannot be told from the file's extension ([`Format::from_path`]).
+    #[error(
+        "{path}: cannot tell the format from {}; expected one of the extensions {} or a \
+         format named explicitly ({})",
+        extension.as_ref().map_or_else(|| "a file name without an extension".to_string(), |e| format!("the extension `.{e}`")),
+        known_extensions(),
+        FORMAT_NAMES.join(", ")
+    )]
+    UnknownFormat {
+        /// File.
+        path: PathBuf,
+        /// Its extension (lower case), if it has one.
+        extension: Option<String>,
+    },
+    /// The format's options are not valid ([`Format::validate`]).
+    #[error("{path}: {source}")]
+    Format {
+        /// File.
+        path: PathBuf,
+        /// What is wrong.
+        #[source]
+        source: FormatError,
+    },
     /// The input exceeds one of the stated limits ([`MAX_INPUT_BYTES`], [`MAX_LINE_BYTES`],
     /// [`MAX_SAMPLES`], [`MAX_WAVELENGTHS`], [`MAX_MERL_BYTES`]).
     #[error("{path}:{line}: {message}")]
@@ -122,6 +230,15 @@ pub enum DataError {
         /// Which limit, its value and what was found.
         message: String,
     },
+}
+
+/// `.brdf (cornell), .csv (csv), ...`, from [`EXTENSIONS`].
+fn known_extensions() -> String {
+    EXTENSIONS
+        .iter()
+        .map(|(e, n)| format!(".{e} ({n})"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn io_err(path: &Path, source: std::io::Error) -> DataError {
