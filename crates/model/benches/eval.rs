@@ -68,6 +68,7 @@ fn bench(c: &mut Criterion) {
             .build()
             .unwrap();
         let x = layout.encode(&params);
+        let samples = layout.prepare(&data);
         let mut r = vec![0.0; M];
         let mut jac = vec![0.0; M * layout.dim()];
 
@@ -83,7 +84,7 @@ fn bench(c: &mut Criterion) {
         {
             let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
             g.bench_function(format!("{kernel:?}"), |b| {
-                b.iter(|| assert!(ev.residuals(black_box(&x), &data, &mut r)))
+                b.iter(|| assert!(ev.residuals(black_box(&x), &samples, &mut r)))
             });
         }
         g.finish();
@@ -101,7 +102,7 @@ fn bench(c: &mut Criterion) {
             let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
             g.bench_function(format!("{kernel:?}"), |b| {
                 b.iter(|| {
-                    assert!(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac))
+                    assert!(ev.residuals_and_jacobian(black_box(&x), &samples, &mut r, &mut jac))
                 })
             });
         }

@@ -29,6 +29,7 @@ fn main() {
             .build()
             .unwrap();
         let x = layout.encode(&params);
+        let samples = layout.prepare(&data);
         let mut r = vec![0.0; M];
         let mut jac = vec![0.0; M * layout.dim()];
         let per = (M * lobes) as f64;
@@ -64,20 +65,20 @@ fn main() {
             let mut ev = Evaluator::with_kernel(&layout, kernel).expect("an available kernel");
             let label = format!("{kernel:?}");
             let v = measure(&mut || {
-                black_box(ev.residuals(black_box(&x), &data, &mut r));
+                black_box(ev.residuals(black_box(&x), &samples, &mut r));
             });
             let j = measure(&mut || {
                 ev.forget_powers();
-                black_box(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac));
+                black_box(ev.residuals_and_jacobian(black_box(&x), &samples, &mut r, &mut jac));
             });
             // A full-data RMSE (the searches' checks), which needs no Jacobian.
             let ss = measure(&mut || {
-                black_box(ev.sum_squares(black_box(&x), &data));
+                black_box(ev.sum_squares(black_box(&x), &samples));
             });
             // What a descent's accepted step asks: values, then the Jacobian at that point.
             let step = measure(&mut || {
-                black_box(ev.residuals(black_box(&x), &data, &mut r));
-                black_box(ev.residuals_and_jacobian(black_box(&x), &data, &mut r, &mut jac));
+                black_box(ev.residuals(black_box(&x), &samples, &mut r));
+                black_box(ev.residuals_and_jacobian(black_box(&x), &samples, &mut r, &mut jac));
             });
             println!(
                 "{lobes} lobe(s) {label:>8}: values {v:6.2} ns/lobe-sample ({:.1}x scalar), values+jacobian {j:6.2}, values then values+jacobian at the same point {step:6.2}, sum of squares {ss:6.2}",

@@ -12,7 +12,7 @@
 //! same point, reusing the kept powers, as a descent's accepted step does), in wall-clock ns
 //! per lobe-sample: the fastest of 40 batches of 20 calls.
 
-use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
+use brdf_model::{Evaluator, Kernel, Layout, LobeKind, Samples, named_params, synthetic};
 use std::hint::black_box;
 use std::io::Write;
 use std::time::Instant;
@@ -40,7 +40,7 @@ fn measure(
     kernel: Kernel,
     layout: &Layout,
     x: &[f64],
-    data: &DataSet,
+    data: &Samples,
     lobes: usize,
 ) -> std::io::Result<()> {
     let mut ev = Evaluator::with_kernel(layout, kernel).expect("an available kernel");
@@ -84,12 +84,13 @@ fn run(out: &mut impl Write) -> std::io::Result<()> {
             .build()
             .expect("a valid layout");
         let x = layout.encode(&params);
+        let samples = layout.prepare(&data);
         for kernel in Kernel::available()
             .into_iter()
             .rev()
             .filter(|&k| k != Kernel::Scalar)
         {
-            measure(out, kernel, &layout, &x, &data, lobes)?;
+            measure(out, kernel, &layout, &x, &samples, lobes)?;
         }
     }
     Ok(())

@@ -2,8 +2,8 @@
 //! agreement with the scalar libm reference, overflow handling.
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, Layout, Lobe, LobeKind, named_params,
-    synthetic,
+    BrdfParams, DataSet, Evaluator, ExponentCoord, FamilyRef, Kernel, Layout, Lobe, LobeKind,
+    Samples, named_params, synthetic,
 };
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -15,6 +15,11 @@ fn compiled_copies() -> Vec<Kernel> {
     kernels.retain(|&k| k != Kernel::Scalar);
     kernels.reverse();
     kernels
+}
+
+/// The Lafortune family's samples of `data` (what every layout here evaluates).
+fn prepare(data: &DataSet) -> Samples {
+    FamilyRef::lafortune().prepare(data)
 }
 
 fn layouts() -> Vec<Layout> {
@@ -58,7 +63,7 @@ thread_local! {
 }
 
 /// Central-difference Jacobian check; returns false when the point cannot be evaluated.
-fn check_jacobian(layout: &Layout, x: &[f64], data: &DataSet, tol: f64) -> bool {
+fn check_jacobian(layout: &Layout, x: &[f64], data: &Samples, tol: f64) -> bool {
     COUNTS
         .with(|(checked, unsmooth)| check_jacobian_counted(layout, x, data, tol, checked, unsmooth))
 }
@@ -66,7 +71,7 @@ fn check_jacobian(layout: &Layout, x: &[f64], data: &DataSet, tol: f64) -> bool 
 fn check_jacobian_counted(
     layout: &Layout,
     x: &[f64],
-    data: &DataSet,
+    data: &Samples,
     tol: f64,
     checked: &std::cell::Cell<usize>,
     unsmooth: &std::cell::Cell<usize>,
@@ -151,7 +156,7 @@ fn check_jacobian_counted(
 #[test]
 fn jacobian_matches_central_differences_over_the_box() {
     let mut rng = Pcg64Mcg::seed_from_u64(11);
-    let data = synthetic(&named_params("cross").unwrap(), 200, 0.05, 5);
+    let data = prepare(&synthetic(&named_params("cross").unwrap(), 200, 0.05, 5));
     let mut evaluated = 0;
     for layout in layouts() {
         for _ in 0..60 {
@@ -190,7 +195,7 @@ fn iso_layout(coord: ExponentCoord) -> Layout {
 
 #[test]
 fn jacobian_at_edge_cases() {
-    let data = synthetic(&named_params("tuning").unwrap(), 100, 0.0, 3);
+    let data = prepare(&synthetic(&named_params("tuning").unwrap(), 100, 0.0, 3));
     for coord in [ExponentCoord::Raw, ExponentCoord::Log1p] {
         let l = Layout::builder(&[LobeKind::Anisotropic])
             .exponent_coord(coord)
@@ -288,6 +293,7 @@ fn d_to_zero_from_above_is_finite() {
     // u = v = normal: d = Cz, which we drive to tiny positive values, even subnormal.
     let mut data = DataSet::new();
     data.push([0.0, 0.0, 1.0], [0.0, 0.0, 1.0], 0.0);
+    let data = prepare(&data);
     for coord in [ExponentCoord::Raw, ExponentCoord::Log1p] {
         let l = iso_layout(coord);
         let mut ev = Evaluator::new(&l);
@@ -339,6 +345,7 @@ fn overflow_gives_inf_not_nan() {
     let mut data = DataSet::new();
     data.push([0.0, 0.0, 1.0], [0.0, 0.0, 1.0], 0.3);
     data.push([0.6, 0.0, 0.8], [-0.6, 0.0, 0.8], 0.3);
+    let data = prepare(&data);
     for coord in [ExponentCoord::Raw, ExponentCoord::Log1p] {
         let l = Layout::builder(&[LobeKind::Anisotropic])
             .exponent_coord(coord)
@@ -379,6 +386,7 @@ fn evaluator_agrees_with_scalar_libm_reference() {
     let l = Layout::builder(&[LobeKind::Anisotropic, LobeKind::Isotropic])
         .build()
         .unwrap();
+    let samples = l.prepare(&data);
     let mut ev = Evaluator::new(&l);
     let mut r = vec![0.0; data.len()];
     let levels = compiled_copies();
@@ -394,7 +402,7 @@ fn evaluator_agrees_with_scalar_libm_reference() {
         let p = l.decode(&x);
         for (k, &level) in levels.iter().enumerate() {
             ev.set_kernel(level).unwrap();
-            if !ev.residuals(&x, &data, &mut r) {
+            if !ev.residuals(&x, &samples, &mut r) {
                 continue;
             }
             for (i, ri) in r.iter().enumerate() {
@@ -417,11 +425,11 @@ fn evaluator_agrees_with_scalar_libm_reference() {
 
 #[test]
 fn simd_and_portable_jacobians_agree() {
-    let data = synthetic(&named_params("cross").unwrap(), 1000, 0.1, 1);
+    let data = prepare(&synthetic(&named_params("cross").unwrap(), 1000, 0.1, 1));
     let l = Layout::builder(&[LobeKind::Anisotropic, LobeKind::Anisotropic])
         .build()
         .unwrap();
-    let x = l.encode(&named_params("cross").unwrap());
+    let x = l.encode(named_params("cross").unwrap());
     let mut ev = Evaluator::new(&l);
     let mut a = vec![0.0; data.len() * l.dim()];
     let mut b = a.clone();
@@ -435,13 +443,13 @@ fn simd_and_portable_jacobians_agree() {
         }
     }
     // The true parameters of a noiseless instance have zero residuals.
-    let clean = synthetic(&named_params("cross").unwrap(), 500, 0.0, 2);
+    let clean = l.prepare(&synthetic(&named_params("cross").unwrap(), 500, 0.0, 2));
     assert!(ev.rmse(&x, &clean) < 1e-12);
-    let noisy = synthetic(&named_params("cross").unwrap(), 5000, 0.1, 2);
+    let noisy = l.prepare(&synthetic(&named_params("cross").unwrap(), 5000, 0.1, 2));
     let e = ev.rmse(&x, &noisy);
     assert!((e - 0.1).abs() < 0.005, "{e}");
     let rows: Vec<u32> = (0..100).collect();
-    let mut sub = DataSet::new();
+    let mut sub = Samples::empty(l.family().name(), 0);
     noisy.gather_into(&rows, &mut sub);
     assert_eq!(ev.rmse_rows(&x, &noisy, &rows), ev.rmse(&x, &sub));
 }
@@ -475,17 +483,20 @@ fn reciprocity_and_phong() {
         .build()
         .unwrap();
     let mut ev = Evaluator::new(&l);
-    assert!(ev.rmse(&l.encode(&cross), &swapped) < 1e-12);
+    assert!(ev.rmse(&l.encode(&cross), &l.prepare(&swapped)) < 1e-12);
 }
 
 #[test]
 fn length_mismatch_is_a_failed_evaluation() {
     let l = iso_layout(ExponentCoord::Log1p);
     let mut ev = Evaluator::new(&l);
-    let d = synthetic(&named_params("tuning").unwrap(), 10, 0.0, 1);
+    let d = l.prepare(&synthetic(&named_params("tuning").unwrap(), 10, 0.0, 1));
     let mut r = vec![0.0; 9];
     assert!(!ev.residuals(&[0.1, 0.2, 0.3, 1.0], &d, &mut r));
     let mut r = vec![0.0; 10];
     assert!(!ev.residuals(&[0.1, 0.2], &d, &mut r));
-    assert_eq!(ev.rmse(&[0.1, 0.2, 0.3, 1.0], &DataSet::new()), 0.0);
+    assert_eq!(
+        ev.rmse(&[0.1, 0.2, 0.3, 1.0], &l.prepare(&DataSet::new())),
+        0.0
+    );
 }

@@ -8,11 +8,11 @@
 //! properties with `PROPTEST_CASES` set (one million executions or more in total); each
 //! property prints `FUZZ <name>: <n> executions` (visible with `--nocapture`).
 
-use brdf_model::data::{MAX_SAMPLES, try_synthetic};
 use brdf_model::io::{AltaInput, AltaOutput, Format, MAX_WAVELENGTHS};
 use brdf_model::params::ParamError;
 use brdf_model::{
-    BrdfParams, DataError, DataSet, FilterReport, Filters, MerlBrdf, parse_cornell, parse_csv,
+    BrdfParams, DataError, DataSet, FilterReport, Filters, MAX_SAMPLES, MerlBrdf, parse_cornell,
+    parse_csv, try_synthetic,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};

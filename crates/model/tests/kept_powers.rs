@@ -4,7 +4,14 @@
 //! point, another data set or other samples in the same buffer; Jacobians after an
 //! evaluation that overflowed are right too.
 
-use brdf_model::{DataSet, Evaluator, Kernel, Layout, LobeKind, named_params, synthetic};
+use brdf_model::{
+    DataSet, Evaluator, FamilyRef, Kernel, Layout, LobeKind, Samples, named_params, synthetic,
+};
+
+/// The Lafortune family's samples of `data` (what every layout here evaluates).
+fn prepare(data: &DataSet) -> Samples {
+    FamilyRef::lafortune().prepare(data)
+}
 
 fn layouts() -> Vec<Layout> {
     [
@@ -30,7 +37,7 @@ fn kernels() -> Vec<Kernel> {
 }
 
 /// Residuals and Jacobian at `x` from an evaluator that never saw another point.
-fn fresh(layout: &Layout, kernel: Kernel, x: &[f64], data: &DataSet) -> (bool, Vec<u64>) {
+fn fresh(layout: &Layout, kernel: Kernel, x: &[f64], data: &Samples) -> (bool, Vec<u64>) {
     let mut ev = Evaluator::with_kernel(layout, kernel).unwrap();
     let mut r = vec![0.0; data.len()];
     let mut jac = vec![0.0; data.len() * layout.dim()];
@@ -38,7 +45,7 @@ fn fresh(layout: &Layout, kernel: Kernel, x: &[f64], data: &DataSet) -> (bool, V
     (ok, r.iter().chain(&jac).map(|v| v.to_bits()).collect())
 }
 
-fn jacobian_of(ev: &mut Evaluator, x: &[f64], data: &DataSet) -> (bool, Vec<u64>) {
+fn jacobian_of(ev: &mut Evaluator, x: &[f64], data: &Samples) -> (bool, Vec<u64>) {
     let mut r = vec![0.0; data.len()];
     let mut jac = vec![0.0; data.len() * ev.layout().dim()];
     let ok = ev.residuals_and_jacobian(x, data, &mut r, &mut jac);
@@ -55,7 +62,7 @@ fn point(layout: &Layout) -> Vec<f64> {
 
 #[test]
 fn a_jacobian_reusing_the_powers_equals_one_from_scratch() {
-    let data = synthetic(&named_params("cross").unwrap(), 1000, 0.1, 5);
+    let data = prepare(&synthetic(&named_params("cross").unwrap(), 1000, 0.1, 5));
     for layout in layouts() {
         for kernel in kernels() {
             let x = point(&layout);
@@ -71,12 +78,12 @@ fn a_jacobian_reusing_the_powers_equals_one_from_scratch() {
 
 #[test]
 fn kept_powers_never_serve_another_point_or_other_samples() {
-    let all = synthetic(&named_params("cross").unwrap(), 1200, 0.1, 9);
+    let all = prepare(&synthetic(&named_params("cross").unwrap(), 1200, 0.1, 9));
     let layout = &layouts()[2];
     let x = point(layout);
     for kernel in kernels() {
         let mut ev = Evaluator::with_kernel(layout, kernel).unwrap();
-        let mut sub = DataSet::new();
+        let mut sub = Samples::empty(layout.family().name(), 0);
         let mut r = vec![0.0; 600];
         // Other samples in the same buffer (same length, same allocation).
         all.gather_into(&(0..600).collect::<Vec<u32>>(), &mut sub);
@@ -95,7 +102,7 @@ fn kept_powers_never_serve_another_point_or_other_samples() {
             fresh(layout, kernel, &y, &sub)
         );
         // A different data set of the same length.
-        let other = synthetic(&named_params("cross").unwrap(), 600, 0.1, 10);
+        let other = prepare(&synthetic(&named_params("cross").unwrap(), 600, 0.1, 10));
         assert!(ev.residuals(&x, &sub, &mut r));
         assert_eq!(
             jacobian_of(&mut ev, &x, &other),
@@ -113,7 +120,7 @@ fn kept_powers_never_serve_another_point_or_other_samples() {
 
 #[test]
 fn jacobians_after_a_failed_evaluation_are_right() {
-    let data = synthetic(&named_params("tuning").unwrap(), 800, 0.1, 3);
+    let data = prepare(&synthetic(&named_params("tuning").unwrap(), 800, 0.1, 3));
     let layout = Layout::builder(&[LobeKind::Isotropic]).build().unwrap();
     for kernel in kernels() {
         let mut ev = Evaluator::with_kernel(&layout, kernel).unwrap();

@@ -3,8 +3,8 @@
 //! (names, parsing, resolution) and [`Evaluator::sum_squares_below`].
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, KernelError, Layout, Lobe, LobeKind,
-    SUM_BLOCK, uniform_hemisphere,
+    BrdfParams, DataSet, Evaluator, ExponentCoord, FamilyRef, Kernel, KernelError, Layout, Lobe,
+    LobeKind, SUM_BLOCK, Samples, uniform_hemisphere,
 };
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -48,6 +48,34 @@ fn with_values(d: &DataSet, y: f64) -> DataSet {
         out.push(d.u(i), d.v(i), y);
     }
     out
+}
+
+/// The Lafortune family's samples of `data` (what every layout here evaluates).
+fn prepare(data: &DataSet) -> Samples {
+    FamilyRef::lafortune().prepare(data)
+}
+
+/// A data set with its samples and those of the same directions with every value 0 (the
+/// model's values as residuals), prepared once.
+struct Prepared {
+    data: DataSet,
+    samples: Samples,
+    zero: Samples,
+}
+
+impl Prepared {
+    fn new(data: DataSet) -> Self {
+        Prepared {
+            samples: prepare(&data),
+            zero: prepare(&with_values(&data, 0.0)),
+            data,
+        }
+    }
+}
+
+/// The Lafortune view of the parameters at `x`.
+fn decode(layout: &Layout, x: &[f64]) -> BrdfParams {
+    BrdfParams::try_from(&layout.decode(x)).unwrap()
 }
 
 fn layouts() -> Vec<Layout> {
@@ -174,7 +202,7 @@ fn allowance(layout: &Layout, x: &[f64], j: usize, data: &DataSet, i: usize) -> 
     }
     let name = &layout.free_names()[j];
     let k: usize = name["lobe".len()..name.len() - 2].parse().unwrap();
-    let lobe = layout.decode(x).lobes[k - 1];
+    let lobe = decode(layout, x).lobes[k - 1];
     let (d, t) = terms(&lobe, data.u(i), data.v(i));
     if d <= 0.0 {
         return 0.0;
@@ -215,18 +243,22 @@ struct Worst {
 
 /// Compares `kernel` with scalar at every point; returns the worst errors seen and counts of
 /// points whose values overflowed.
-fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, data: &DataSet) -> Worst {
-    let zero = with_values(data, 0.0);
+fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, prep: &Prepared) -> Worst {
+    let Prepared {
+        data,
+        samples,
+        zero,
+    } = prep;
     let m = data.len();
     let p = layout.dim();
     let mut sc = Evaluator::with_kernel(layout, Kernel::Scalar).unwrap();
     let mut ev = Evaluator::with_kernel(layout, kernel).unwrap();
     let mut w = Worst::default();
-    let params = layout.decode(x);
+    let params = decode(layout, x);
     // Values (residuals against y = 0).
     let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
-    let ok_a = ev.residuals(x, &zero, &mut a);
-    let ok_b = sc.residuals(x, &zero, &mut b);
+    let ok_a = ev.residuals(x, zero, &mut a);
+    let ok_b = sc.residuals(x, zero, &mut b);
     assert_eq!(
         ok_a, ok_b,
         "{kernel}: value overflow differs at {what} {x:?}"
@@ -255,8 +287,8 @@ fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, data: &DataSe
     }
     // Residuals against the data (relative to the larger of value and y).
     let (mut ra, mut rb) = (vec![0.0; m], vec![0.0; m]);
-    assert_eq!(ev.residuals(x, data, &mut ra), ok_b);
-    assert_eq!(sc.residuals(x, data, &mut rb), ok_b);
+    assert_eq!(ev.residuals(x, samples, &mut ra), ok_b);
+    assert_eq!(sc.residuals(x, samples, &mut rb), ok_b);
     if ok_b {
         for i in 0..m {
             let scale = b[i].max(data.value(i)).max(1e-290);
@@ -264,7 +296,7 @@ fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, data: &DataSe
         }
     }
     // Sum of squares: +inf exactly when the evaluation fails (or the squares overflow).
-    let (sa, sb) = (ev.sum_squares(x, data), sc.sum_squares(x, data));
+    let (sa, sb) = (ev.sum_squares(x, samples), sc.sum_squares(x, samples));
     assert!(!sa.is_nan() && !sb.is_nan());
     assert_eq!(
         sa.is_finite(),
@@ -274,8 +306,8 @@ fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, data: &DataSe
     // Jacobian (with the residuals computed alongside).
     let (mut ja, mut jb) = (vec![0.0; m * p], vec![0.0; m * p]);
     let (mut r1, mut r2) = (vec![0.0; m], vec![0.0; m]);
-    let okj_a = ev.residuals_and_jacobian(x, data, &mut r1, &mut ja);
-    let okj_b = sc.residuals_and_jacobian(x, data, &mut r2, &mut jb);
+    let okj_a = ev.residuals_and_jacobian(x, samples, &mut r1, &mut ja);
+    let okj_b = sc.residuals_and_jacobian(x, samples, &mut r2, &mut jb);
     assert_eq!(
         okj_a, okj_b,
         "{kernel}: Jacobian failure differs at {what} {x:?}"
@@ -327,7 +359,7 @@ fn compare(kernel: Kernel, layout: &Layout, x: &[f64], what: &str, data: &DataSe
 /// mirror and retro pairs, so lobes with `d <= 0` and `d = 0` occur.
 #[test]
 fn every_kernel_agrees_with_scalar_over_the_box() {
-    let data = box_data(600, 7);
+    let prep = Prepared::new(box_data(600, 7));
     let mut rng = Pcg64Mcg::seed_from_u64(3);
     let kernels: Vec<Kernel> = Kernel::available()
         .into_iter()
@@ -340,12 +372,12 @@ fn every_kernel_agrees_with_scalar_over_the_box() {
         for (x, what) in points(&layout, &mut rng) {
             total += 1;
             let mut sc = Evaluator::with_kernel(&layout, Kernel::Scalar).unwrap();
-            let mut r = vec![0.0; data.len()];
-            if !sc.residuals(&x, &data, &mut r) {
+            let mut r = vec![0.0; prep.data.len()];
+            if !sc.residuals(&x, &prep.samples, &mut r) {
                 overflowed += 1;
             }
             for &k in &kernels {
-                let w = compare(k, &layout, &x, what, &data);
+                let w = compare(k, &layout, &x, what, &prep);
                 worst.value = worst.value.max(w.value);
                 worst.residual = worst.residual.max(w.residual);
                 worst.column = worst.column.max(w.column);
@@ -425,7 +457,7 @@ fn sum_squares_below_is_exact_or_exceeds_the_bound() {
     let layout = Layout::builder(&[LobeKind::Anisotropic, LobeKind::Isotropic])
         .build()
         .unwrap();
-    let data = box_data(5 * SUM_BLOCK + 13, 9);
+    let data = layout.prepare(&box_data(5 * SUM_BLOCK + 13, 9));
     let mut rng = Pcg64Mcg::seed_from_u64(5);
     let mut cut = 0;
     for k in Kernel::available() {
@@ -483,6 +515,7 @@ fn jacobian_does_not_overflow_before_its_true_value() {
     data.push(normal, normal, 0.0);
     // A second sample with d < 1 so a column is not a single entry.
     data.push([0.6, 0.0, 0.8], [-0.6, 0.0, 0.8], 0.1);
+    let data = prepare(&data);
     let want_f = 1.5f64.powf(n);
     let want_g = n * 1.5f64.powf(n - 1.0);
     assert!(want_f.is_finite() && want_g.is_finite() && (n * want_f).is_infinite());
@@ -556,7 +589,7 @@ fn jacobian_does_not_overflow_before_its_true_value() {
 #[test]
 fn a_sample_gets_the_same_bits_in_any_company() {
     let mut rng = Pcg64Mcg::seed_from_u64(11);
-    let all = box_data(80, 5);
+    let all = prepare(&box_data(80, 5));
     let mut compared = 0usize;
     for kernel in Kernel::available() {
         for layout in layouts() {
@@ -565,12 +598,12 @@ fn a_sample_gets_the_same_bits_in_any_company() {
                 let mut ev = Evaluator::with_kernel(&layout, kernel).unwrap();
                 for m in [1, 7, 8, 9, 15, 16, 17, 31, 33, 64, 65, 81] {
                     let rows: Vec<u32> = (0..m as u32).collect();
-                    let mut data = DataSet::new();
+                    let mut data = Samples::empty(layout.family().name(), 0);
                     all.gather_into(&rows, &mut data);
                     let (mut v, mut r, mut jac) = (vec![0.0; m], vec![0.0; m], vec![0.0; m * p]);
                     let ok_v = ev.residuals(&x, &data, &mut v);
                     let ok = ev.residuals_and_jacobian(&x, &data, &mut r, &mut jac);
-                    let mut one = DataSet::new();
+                    let mut one = Samples::empty(layout.family().name(), 0);
                     let (mut v1, mut r1, mut j1) = (vec![0.0; 1], vec![0.0; 1], vec![0.0; p]);
                     for i in 0..m {
                         all.gather_into(&[i as u32], &mut one);

@@ -312,7 +312,7 @@ fn default_filters_keep_negative_noise() {
 
 #[test]
 fn try_synthetic_checks_its_inputs() {
-    use brdf_model::data::{MAX_SAMPLES, try_synthetic};
+    use brdf_model::{MAX_SAMPLES, try_synthetic};
     let p = named_params("tuning").unwrap();
     assert_eq!(
         try_synthetic(&p, 100, 0.1, 3).unwrap(),
