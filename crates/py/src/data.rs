@@ -10,8 +10,7 @@ use numpy::ndarray::{Array2, ArrayView1};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 
-use crate::model::parse_params;
-use crate::support::{enum_value, input_err};
+use crate::support::{enum_value, input_err, parse_params};
 
 /// BRDF samples: incident directions `u`, exitant directions `v` (unit vectors in the surface
 /// frame, both pointing away from the surface, z the normal) and measured values.

@@ -30,10 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     algorithm::register();
     m.add("InputError", py.get_type::<support::InputError>())?;
     m.add("RunError", py.get_type::<support::RunError>())?;
-    m.add(
-        "BudgetExhausted",
-        py.get_type::<algorithm::BudgetExhausted>(),
-    )?;
+    m.add("BudgetExhausted", py.get_type::<support::BudgetExhausted>())?;
     m.add_class::<algorithm::Problem>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<data::PyDataSet>()?;
