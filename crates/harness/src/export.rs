@@ -35,8 +35,8 @@ use std::path::{Path, PathBuf};
 
 use brdf_graphics::chart::slug;
 
-use crate::spec::{InstanceSpec, Spec};
-use crate::store::{TrialRecord, write_atomic};
+use brdf_experiment::spec::{InstanceSpec, Spec};
+use brdf_experiment::store::{TrialRecord, write_atomic};
 
 /// The IOHprofiler logger format version the files follow.
 pub const IOH_FORMAT_VERSION: &str = "0.3.17";

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::report::{StoredSpecError, plan_records, stored_spec};
-use crate::spec::Spec;
-use crate::store::{Contents, StoreError, TrialRecord, read_results, results_file};
+use brdf_experiment::spec::Spec;
+use brdf_experiment::store::{Contents, StoreError, TrialRecord, read_results, results_file};
 
 /// Why a results folder could not be read.
 #[derive(Debug, thiserror::Error)]
@@ -78,19 +78,17 @@ impl Folder {
             dir: path.to_path_buf(),
             source,
         })?;
-        let resolved =
-            crate::best_known::resolve(&mut spec, contents.best_known()).map_err(|e| {
-                FolderError::BestKnown {
-                    dir: path.to_path_buf(),
-                    message: e.to_string(),
-                }
+        let resolved = brdf_experiment::best_known::resolve(&mut spec, contents.best_known())
+            .map_err(|e| FolderError::BestKnown {
+                dir: path.to_path_buf(),
+                message: e.to_string(),
             })?;
         Ok(Folder::new(path, spec, contents, resolved.notes))
     }
 
     /// The folder a run just wrote, from what the run holds in memory (the results file is not
     /// read again): its header, sessions and the plan's records.
-    pub fn from_run(dir: &Path, spec: Spec, outcome: &crate::run::RunOutcome) -> Folder {
+    pub fn from_run(dir: &Path, spec: Spec, outcome: &brdf_experiment::run::RunOutcome) -> Folder {
         let contents = Contents {
             header: outcome.header.clone(),
             sessions: outcome.sessions.clone(),

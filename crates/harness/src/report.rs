@@ -1,7 +1,7 @@
 //! Statistics and plots of a results directory, written atomically beside `trials.jsonl`.
 //!
 //! Output layout of `<out>/`:
-//! - `trials.jsonl`: the raw results (see [`crate::store`]);
+//! - `trials.jsonl`: the raw results (see [`brdf_experiment::store`]);
 //! - `summary.json`: experiment, fingerprint, machines, trial counts, files written;
 //! - `stats.json`, `stats.csv`: per instance, configuration, target and measure
 //!   ([`crate::stats::ConfigStats`]);
@@ -17,9 +17,9 @@ use brdf_graphics::PlotError;
 use brdf_graphics::chart::{self as plot, slug};
 
 use crate::figures;
-use crate::spec::{PlotKind, Source, Spec};
 use crate::stats::{self, Group, Measure, StatsReport};
-use crate::store::{Contents, Session, TrialRecord, write_atomic};
+use brdf_experiment::spec::{PlotKind, Source, Spec};
+use brdf_experiment::store::{Contents, Session, TrialRecord, write_atomic};
 
 /// Errors writing a report.
 #[derive(Debug, thiserror::Error)]
@@ -71,7 +71,7 @@ pub enum StoredSpecError {
     NoSpecText(PathBuf),
     /// The stored text does not parse (or no longer validates).
     #[error(transparent)]
-    Spec(#[from] crate::spec::SpecError),
+    Spec(#[from] brdf_experiment::spec::SpecError),
 }
 
 /// The spec a results folder was last run with (its latest session's, else the header's), as
@@ -151,8 +151,8 @@ pub fn write_report(
         files.extend(draw_plots(spec, &groups, &out.join("plots"))?);
     }
     let planned = spec.trials_plan().len();
-    let mut warnings = crate::best_known::warnings(spec);
-    warnings.extend(crate::best_known::below_best_known(spec, &owned));
+    let mut warnings = brdf_experiment::best_known::warnings(spec);
+    warnings.extend(brdf_experiment::best_known::below_best_known(spec, &owned));
     // `stats` writes no plots: the summary still lists those an earlier run drew.
     let mut listed = files.clone();
     if !plots {
@@ -211,9 +211,12 @@ fn with_best_known(spec: &Spec, records: &[TrialRecord], mut table: String) -> S
     if !table.ends_with('\n') {
         table.push('\n');
     }
-    table.push_str(&crate::best_known::summary(spec));
-    let below = crate::best_known::below_best_known(spec, records);
-    for w in crate::best_known::warnings(spec).into_iter().chain(below) {
+    table.push_str(&brdf_experiment::best_known::summary(spec));
+    let below = brdf_experiment::best_known::below_best_known(spec, records);
+    for w in brdf_experiment::best_known::warnings(spec)
+        .into_iter()
+        .chain(below)
+    {
         table.push_str(&w);
         table.push('\n');
     }
@@ -226,7 +229,7 @@ fn with_python_note(spec: &Spec, mut table: String) -> String {
     let python: Vec<&str> = spec
         .configurations
         .iter()
-        .filter(|c| c.algorithm.kind_name() == crate::python_kind::KIND)
+        .filter(|c| c.algorithm.kind_name() == brdf_experiment::python_kind::KIND)
         .map(|c| c.label.as_str())
         .collect();
     if python.is_empty() {
@@ -394,7 +397,7 @@ fn sweep_charts(
         for c in &cfgs {
             let others: Vec<String> = c.swept[1..]
                 .iter()
-                .map(|(k, v)| format!("{k}={}", crate::spec::format_value(*v)))
+                .map(|(k, v)| format!("{k}={}", brdf_experiment::spec::format_value(*v)))
                 .collect();
             let key = others.join(" ");
             let Some(g) = groups.iter().find(|g| g.config == c.label) else {

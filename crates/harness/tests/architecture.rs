@@ -25,10 +25,10 @@ const ALLOWED_CIRCLES: &[&[&str]] = &[
 
 /// Files that hold plain shared types and import nothing of their crate.
 const LEAVES: &[&str] = &[
-    "crates/harness/src/best_known_record.rs",
-    "crates/harness/src/trial_key.rs",
-    "crates/harness/src/duration.rs",
-    "crates/harness/src/choice.rs",
+    "crates/experiment/src/best_known_record.rs",
+    "crates/experiment/src/trial_key.rs",
+    "crates/experiment/src/duration.rs",
+    "crates/experiment/src/choice.rs",
 ];
 
 /// The workspace's crates (package names) in layers, lowest first: a crate depends only on
@@ -37,6 +37,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-simd"],
     &["brdf-model", "bounded-lm"],
     &["sls", "brdf-graphics", "brdf-stress"],
+    &["brdf-experiment"],
     &["harness"],
     &["brdf-sls-py"],
 ];

@@ -4,9 +4,9 @@
 
 use std::sync::Once;
 
-use harness::progress::ProgressMode;
-use harness::run::{RunOptions, SlsExecutor, run_experiment};
-use harness::spec::Spec;
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{RunOptions, SlsExecutor, run_experiment};
+use brdf_experiment::spec::Spec;
 use serde::{Deserialize, Serialize};
 use sls::registry::{self, Algorithm};
 use sls::{ConfigError, Search, Stop, StopReason};
@@ -85,7 +85,7 @@ batch = 4
 bootstrap = 50
 "#;
 
-fn parse(text: &str, dir: &std::path::Path) -> Result<Spec, harness::spec::SpecError> {
+fn parse(text: &str, dir: &std::path::Path) -> Result<Spec, brdf_experiment::spec::SpecError> {
     Spec::parse(text, "custom.toml", "custom", dir)
 }
 
@@ -133,7 +133,7 @@ fn a_registered_algorithm_runs_stores_and_resumes_like_a_built_in() {
     assert_eq!((again.new_trials, again.resumed), (0, 6));
     assert_eq!(again.records, first.records);
 
-    let stored = harness::store::read_results(&out).unwrap();
+    let stored = brdf_experiment::store::read_results(&out).unwrap();
     assert_eq!(stored.header.fingerprint, spec.fingerprint());
     let report =
         harness::report::write_report(&spec, &stored.records, &stored.sessions, &out, false)

@@ -9,8 +9,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use brdf_experiment::spec::Spec;
 use brdf_model::Kernel;
-use harness::spec::Spec;
 use sls::{Budget, EvalCounts};
 
 /// Fingerprint of experiments/default.toml (as stored in results/default/trials.jsonl.gz).
@@ -39,18 +39,21 @@ fn default_data_hash() {
     // The generated data themselves: a change of the generator's random stream or of the
     // model changes this, and a resume on such data is refused.
     let spec = Spec::default_experiment();
-    let built = harness::instance::build(&spec.instances[0]).unwrap();
-    assert_eq!(harness::seed::data_hash(&built.data), DEFAULT_DATA_HASH);
+    let built = brdf_experiment::instance::build(&spec.instances[0]).unwrap();
+    assert_eq!(
+        brdf_experiment::seed::data_hash(&built.data),
+        DEFAULT_DATA_HASH
+    );
 }
 
-/// [`harness::seed::data_hash`] of the default experiment's instance.
+/// [`brdf_experiment::seed::data_hash`] of the default experiment's instance.
 const DEFAULT_DATA_HASH: &str = "76fb9762eed8b52a";
 
 /// Evaluation counts (residual, Jacobian, RMSE rows; the paper's count) when the target was
 /// reached, for `(configuration, trial)` of the default experiment under `kernel`.
 fn reached(kernel: Kernel, config: &str, trial: u32) -> (u64, u64, u64) {
     let spec = Spec::default_experiment();
-    let built = harness::instance::build(&spec.instances[0]).unwrap();
+    let built = brdf_experiment::instance::build(&spec.instances[0]).unwrap();
     let objective =
         sls::BrdfObjective::with_kernel(Arc::clone(&built.data), built.layout.clone(), kernel)
             .unwrap();
@@ -178,7 +181,7 @@ fn assert_golden(name: &str, text: &str) {
 }
 
 /// Fixed records of the default plan: a deterministic function of each trial's seed.
-fn fixed_records(spec: &Spec) -> Vec<harness::store::TrialRecord> {
+fn fixed_records(spec: &Spec) -> Vec<brdf_experiment::store::TrialRecord> {
     spec.trials_plan()
         .into_iter()
         .filter(|t| t.trial < 20)
@@ -198,7 +201,7 @@ fn fixed_records(spec: &Spec) -> Vec<harness::store::TrialRecord> {
             };
             let reached = t.seed % 5 != 0;
             let rmse = if reached { 0.101 } else { 0.115 };
-            harness::store::TrialRecord {
+            brdf_experiment::store::TrialRecord {
                 key: t.key.clone(),
                 instance: inst.name.clone(),
                 config: spec.configurations[t.config].label.clone(),
@@ -237,8 +240,8 @@ fn stats_table_of_fixed_records() {
 fn rtd_svg_of_fixed_records() {
     let mut spec = Spec::default_experiment();
     spec.trials = 20;
-    spec.plots.draw = vec![harness::spec::PlotKind::Rtd];
-    spec.plots.formats = vec![harness::spec::PlotFormat::Svg];
+    spec.plots.draw = vec![brdf_experiment::spec::PlotKind::Rtd];
+    spec.plots.formats = vec![brdf_experiment::spec::PlotFormat::Svg];
     let records = fixed_records(&spec);
     let dir = tempfile::tempdir().unwrap();
     harness::report::write_report(&spec, &records, &[], dir.path(), true).unwrap();

@@ -1,6 +1,7 @@
 //! `brdf-sls report`, `compare`, `completions` and `man`, and BRDF_SLS_THREADS, through the
 //! binary on a tiny experiment run twice.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::path::Path;

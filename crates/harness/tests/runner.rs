@@ -1,13 +1,14 @@
 //! Running experiments end to end: seeding invariance across thread counts, resume after an
 //! interruption, refusal of a different spec, and the written statistics and plots.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::io::Write;
 
-use harness::progress::ProgressMode;
-use harness::run::{RunError, RunOptions, SlsExecutor, run_experiment};
-use harness::store::{StoreError, TRIALS_FILE, read_results};
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{RunError, RunOptions, SlsExecutor, run_experiment};
+use brdf_experiment::store::{StoreError, TRIALS_FILE, read_results};
 
 use common::{TINY, deterministic_view, spec};
 
@@ -183,10 +184,10 @@ struct Fake {
     panic_on: Option<u32>,
 }
 
-impl harness::run::Executor for Fake {
+impl brdf_experiment::run::Executor for Fake {
     fn run(
         &self,
-        t: &harness::spec::PlannedTrial,
+        t: &brdf_experiment::spec::PlannedTrial,
         target: f64,
         _budget: sls::Budget,
     ) -> sls::TrialResult {
@@ -240,10 +241,10 @@ struct FailingConfig {
     failed: std::sync::atomic::AtomicBool,
 }
 
-impl harness::run::Executor for FailingConfig {
+impl brdf_experiment::run::Executor for FailingConfig {
     fn run(
         &self,
-        t: &harness::spec::PlannedTrial,
+        t: &brdf_experiment::spec::PlannedTrial,
         target: f64,
         b: sls::Budget,
     ) -> sls::TrialResult {
@@ -256,7 +257,7 @@ impl harness::run::Executor for FailingConfig {
         result
     }
 
-    fn skip(&self, t: &harness::spec::PlannedTrial) -> bool {
+    fn skip(&self, t: &brdf_experiment::spec::PlannedTrial) -> bool {
         t.config == 1 && self.failed.load(std::sync::atomic::Ordering::Relaxed)
     }
 }

@@ -5,10 +5,10 @@
 use std::path::Path;
 use std::process::Command;
 
-use harness::spec::Spec;
+use brdf_experiment::spec::Spec;
+use brdf_experiment::spec::tune::{CostKind, ParamType};
 use harness::tune::irace::{self, parse_elites};
-use harness::tune::validation::validation_spec;
-use harness::tune::{CostKind, ParamType};
+use harness::tune::validation::{TuningSource, validation_spec};
 
 /// A tiny tuning spec: 400-sample instances, AED, evaluation cutoffs (deterministic costs).
 const TINY_TUNE: &str = include_str!("data/tiny-tune.toml");
@@ -167,7 +167,7 @@ fn elites_and_validation_spec() {
 
     let text = validation_spec(
         TINY_TUNE,
-        &s.tuning_source(&t.algorithm).unwrap(),
+        &TuningSource::of(&s, &t.algorithm).unwrap(),
         t,
         &elites,
         "tiny-tune-validation",

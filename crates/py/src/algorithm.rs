@@ -22,7 +22,7 @@ use std::cell::Cell;
 use std::ptr::NonNull;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use harness::python_kind::PythonEntry;
+use brdf_experiment::python_kind::PythonEntry;
 use numpy::ndarray::{Array2, ShapeBuilder};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -44,7 +44,7 @@ use crate::support::BudgetExhausted;
 pub struct PythonAlgorithm(pub PythonEntry);
 
 impl Algorithm for PythonAlgorithm {
-    const KIND: &'static str = harness::python_kind::KIND;
+    const KIND: &'static str = brdf_experiment::python_kind::KIND;
 
     /// Checks the entry's form, then imports the module and looks the function up (so a
     /// misspelt entry is an error of the experiment file, before any trial runs).

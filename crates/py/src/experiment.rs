@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use anyhow::Context;
-use brdf_model::Kernel;
-use harness::progress::ProgressMode;
-use harness::run::{
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{
     Executor, Provenance, RunError, RunOptions, SlsExecutor, default_threads, run_experiment,
 };
-use harness::spec::{PlannedTrial, Spec};
-use harness::store::{StoreError, read_results as read_store};
+use brdf_experiment::spec::{PlannedTrial, Spec};
+use brdf_experiment::store::{StoreError, read_results as read_store};
+use brdf_model::Kernel;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -82,10 +82,10 @@ pub fn run(
         Some(k) => k.parse().map_err(input_err)?,
         None => loaded.kernel,
     };
-    let out = out.unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem));
+    let out = out.unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem));
     // As `brdf-sls run`: relative targets need the best-known RMSEs (recorded or computed).
     let warnings = py
-        .detach(|| harness::best_known::resolve_for_run(&mut loaded, Some(&out)))
+        .detach(|| brdf_experiment::best_known::resolve_for_run(&mut loaded, Some(&out)))
         .context("finding the best-known RMSEs")
         .map_err(classify)?;
     let args = RunArgs {
@@ -226,8 +226,8 @@ impl Executor for PyExecutor<'_> {
 /// 2) or RunError (status 1), with the command line's message.
 fn classify(e: anyhow::Error) -> PyErr {
     let input = e.chain().any(|c| {
-        c.is::<harness::spec::SpecError>()
-            || c.is::<harness::instance::InstanceError>()
+        c.is::<brdf_experiment::spec::SpecError>()
+            || c.is::<brdf_experiment::instance::InstanceError>()
             || c.is::<brdf_model::KernelError>()
             || matches!(
                 c.downcast_ref::<RunError>(),
@@ -275,7 +275,7 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
 
 /// A folder's contents, its spec, its statistics and warnings.
 type Loaded = (
-    harness::store::Contents,
+    brdf_experiment::store::Contents,
     Spec,
     harness::stats::StatsReport,
     Vec<String>,
@@ -299,7 +299,7 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
     // relative targets need them; without those, a folder whose data cannot be found again
     // (older folders store data paths relative to the spec) is still read, with a warning.
     let mut warnings = Vec::new();
-    match harness::best_known::resolve(&mut spec, contents.best_known()) {
+    match brdf_experiment::best_known::resolve(&mut spec, contents.best_known()) {
         // Instances left without a best-known RMSE (their data is not found again) are named.
         Ok(resolved) => warnings.extend(resolved.notes),
         Err(e) => {

@@ -4,7 +4,7 @@
 //! - [`algorithm`]: `kind = "python"`, search algorithms written in Python (the `Problem` class).
 //! - [`data`]: the `DataSet` class (Cornell, CSV, MERL files, numpy arrays, synthetic data).
 //! - [`model`]: the `Model` class (evaluate, residuals, RMSE, Jacobian) and `rmse`.
-//! - [`fitting`]: `fit`, one seeded fit with any algorithm (`harness::fit`).
+//! - [`fitting`]: `fit`, one seeded fit with any algorithm (`brdf_experiment::fit`).
 //! - [`experiment`]: `run` an experiment spec, `read_results` of a results folder.
 //! - [`support`]: errors as Python exceptions, Ctrl-C, conversions.
 //! - [`watchdog`]: raises `BudgetExhausted` in a Python algorithm that runs past its CPU cutoff.

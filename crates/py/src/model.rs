@@ -113,8 +113,8 @@ impl PyModel {
         fixed: Option<BTreeMap<String, f64>>,
         kernel: &str,
     ) -> PyResult<Self> {
-        let spec = harness::fit::model_spec(
-            harness::fit::Surface::Python,
+        let spec = brdf_experiment::fit::model_spec(
+            brdf_experiment::fit::Surface::Python,
             lobes,
             enum_value::<LobeKind>("kind", kind)?,
             enum_value::<ExponentCoord>("exponent", exponent)?,

@@ -139,7 +139,7 @@ pub fn to_python<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<
 /// Parameters from Python: a paper name ("tuning", "cross", "paper-bluepaint",
 /// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}`, its
 /// JSON text (the `json:` line of `brdf-sls fit`) or `"@FILE"` holding that JSON; read by
-/// `harness::params` (what `--params` and specs use) and checked against the model's box.
+/// `brdf_experiment::params` (what `--params` and specs use) and checked against the model's box.
 pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
     let text: String = if p.is_instance_of::<PyString>() {
         p.extract()?
@@ -152,9 +152,12 @@ pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
             p.get_type().name()?
         )));
     };
-    harness::params::parse_params("params", harness::params::ParamsInput::Text(&text))
-        .map(|g| g.params)
-        .map_err(input_err)
+    brdf_experiment::params::parse_params(
+        "params",
+        brdf_experiment::params::ParamsInput::Text(&text),
+    )
+    .map(|g| g.params)
+    .map_err(input_err)
 }
 
 /// A Python dict of settings as `(name, TOML value)` pairs.

@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use super::{bail_input, note, say};
 use crate::cli::BenchArgs;
-use crate::progress::{Progress, ProgressMode};
+use brdf_experiment::progress::{Progress, ProgressMode};
 
 /// Floating-point operations of one lobe-sample of values, counted in the generic loop: the
 /// rotated dot product (4 multiplies, 3 adds), the clamp, `ln d` and `exp(n ln d)` (about 16
@@ -128,7 +128,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     let out = a
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RUNS_DIR).join("bench"));
+        .unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join("bench"));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let load_before = load_average();
     let mut load_warnings: Vec<String> = load_warning("before", load_before, cores)
@@ -154,8 +154,8 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         load_warnings.push(w);
     }
     let report = BenchReport {
-        program_version: crate::PROGRAM_VERSION.to_string(),
-        cpu: crate::machine::MachineInfo::current(1).cpu_model,
+        program_version: brdf_experiment::PROGRAM_VERSION.to_string(),
+        cpu: brdf_experiment::machine::MachineInfo::current(1).cpu_model,
         peak_gflops_per_core: peak,
         flops_per_value: FLOPS_PER_VALUE,
         kernels,
@@ -169,14 +169,14 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         load_warnings,
     };
     let md = markdown(&report);
-    crate::store::write_atomic(&out.join("bench.md"), md.as_bytes())
+    brdf_experiment::store::write_atomic(&out.join("bench.md"), md.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.md").display()))?;
     let json = serde_json::to_string_pretty(&report).context("serialising the report")?;
-    crate::store::write_atomic(&out.join("bench.json"), json.as_bytes())
+    brdf_experiment::store::write_atomic(&out.join("bench.json"), json.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.json").display()))?;
-    let machine = crate::machine::MachineInfo::current(1);
-    let html = page(&report, &machine, crate::machine::unix_now());
-    crate::store::write_atomic(&out.join("bench.html"), html.as_bytes())
+    let machine = brdf_experiment::machine::MachineInfo::current(1);
+    let html = page(&report, &machine, brdf_experiment::machine::unix_now());
+    brdf_experiment::store::write_atomic(&out.join("bench.html"), html.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.html").display()))?;
     say!("{md}");
     say!(
@@ -544,7 +544,11 @@ fn markdown(r: &BenchReport) -> String {
 }
 
 /// The page of `r` (`bench.html`): what `markdown` shows, with the machine and the date.
-fn page(r: &BenchReport, machine: &crate::machine::MachineInfo, written_unix: u64) -> String {
+fn page(
+    r: &BenchReport,
+    machine: &brdf_experiment::machine::MachineInfo,
+    written_unix: u64,
+) -> String {
     use crate::html::{date, document, escape, key_values, para, section, table};
     let title = "brdf-sls bench";
     let mut body = format!("<h1>{title}</h1>\n");
@@ -710,7 +714,7 @@ mod tests {
         // have 12.5 ms, above both AED limits; RPLS raw n equals log1p: met.
         let met: Vec<bool> = r.goals.iter().map(|g| g.met).collect();
         assert_eq!(met, [false, false, false, true, false, false]);
-        let machine = crate::machine::MachineInfo::current(1);
+        let machine = brdf_experiment::machine::MachineInfo::current(1);
         let html = page(&r, &machine, 0);
         crate::html::wellformed::check(&html).unwrap();
         assert!(html.contains("Test &lt;CPU&gt; &amp; co"));

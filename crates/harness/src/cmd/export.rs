@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use crate::store::read_results;
 use anyhow::{Context, Result};
+use brdf_experiment::store::read_results;
 
 use super::{input_error, note, say};
 use crate::cli::{ExportArgs, ExportFormat};
@@ -40,7 +40,7 @@ pub fn export(a: ExportArgs) -> Result<()> {
         );
     }
     let out = a.out.clone().unwrap_or_else(|| dir.join("ioh"));
-    crate::input_file::check_out_dir(&out)
+    brdf_experiment::input_file::check_out_dir(&out)
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let done = match a.format {
         ExportFormat::Ioh => {

@@ -57,6 +57,6 @@ pub fn write_report_page(folders: &[Folder], out: &Path) -> Result<()> {
 
 /// Writes a page atomically (a reader never sees half of it).
 pub fn write_page(out: &Path, page: &str) -> Result<()> {
-    crate::store::write_atomic(out, page.as_bytes())
+    brdf_experiment::store::write_atomic(out, page.as_bytes())
         .with_context(|| format!("writing {}", out.display()))
 }

@@ -5,7 +5,7 @@ use serde_json::Value;
 
 use crate::folder::Folder;
 use crate::stats::{Measure, Outcome, outcome};
-use crate::store::TrialRecord;
+use brdf_experiment::store::TrialRecord;
 
 /// Relative difference under which two targets are the same target: a relative target is a
 /// best-known RMSE times `1 + r`, and re-computing the best-known RMSE after a change of

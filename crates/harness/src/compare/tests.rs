@@ -1,5 +1,5 @@
 use super::*;
-use crate::store::TrialRecord;
+use brdf_experiment::store::TrialRecord;
 
 const TARGET: f64 = 0.1;
 const CUTOFF: u64 = 1_000_000;

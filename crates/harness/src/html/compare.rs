@@ -34,7 +34,7 @@ pub fn compare_page(
     ));
     body.push_str(&para(
         "note",
-        &format!("Written by brdf-sls {}.", crate::PROGRAM_VERSION),
+        &format!("Written by brdf-sls {}.", brdf_experiment::PROGRAM_VERSION),
     ));
     Ok(document(&title, &body))
 }

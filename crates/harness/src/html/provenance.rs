@@ -3,7 +3,7 @@
 
 use super::{date, escape, key_values, table};
 use crate::folder::Folder;
-use crate::machine::MachineInfo;
+use brdf_experiment::machine::MachineInfo;
 
 /// A machine in one line: CPU model, logical CPUs, threads, OS, host.
 pub fn machine_text(m: &MachineInfo) -> String {

@@ -5,8 +5,8 @@ use super::figures::figure;
 use super::{PageError, anchor, document, escape, para, provenance, section, tables};
 use crate::folder::Folder;
 use crate::report::{charts, compute_stats};
-use crate::spec::PlotKind;
 use crate::stats;
+use brdf_experiment::spec::PlotKind;
 
 /// Charts every page shows, whatever the spec draws to files: RTDs in both measures, tuning
 /// sweeps (where the spec sweeps), traces and error-time curves.
@@ -29,7 +29,7 @@ pub fn report_page(folders: &[Folder]) -> Result<String, PageError> {
     }
     body.push_str(&para(
         "note",
-        &format!("Written by brdf-sls {}.", crate::PROGRAM_VERSION),
+        &format!("Written by brdf-sls {}.", brdf_experiment::PROGRAM_VERSION),
     ));
     Ok(document(&title, &body))
 }
@@ -130,7 +130,7 @@ fn experiment(f: &Folder, id: &str) -> String {
     section(&format!("{id}-experiment"), 3, "Experiment and plan", &s)
 }
 
-fn best_known_line(inst: &crate::spec::InstanceSpec) -> String {
+fn best_known_line(inst: &brdf_experiment::spec::InstanceSpec) -> String {
     match &inst.best_known {
         Some(b) => para(
             "",

@@ -6,7 +6,7 @@ use brdf_stress::StressReport;
 
 use super::figures::figure;
 use super::{PageError, date, document, escape, key_values, markdown, section, table};
-use crate::machine::MachineInfo;
+use brdf_experiment::machine::MachineInfo;
 
 /// The whole stress page of `report`, with `charts` (those of
 /// [`crate::stress_charts::charts`]) inline, run on `machine` and written at `written_unix`.
@@ -72,7 +72,7 @@ fn facts(r: &StressReport, machine: &MachineInfo, written_unix: u64) -> String {
                 s[3], s[0], s[1], s[2]
             ),
         ),
-        ("program", escape(crate::PROGRAM_VERSION)),
+        ("program", escape(brdf_experiment::PROGRAM_VERSION)),
         ("machine", escape(&super::machine_text(machine))),
         ("written", date(written_unix)),
     ])

@@ -2,9 +2,9 @@
 //! pairwise tests with Holm's correction; final quality; the best fit's parameters.
 
 use super::{escape, table};
-use crate::spec::InstanceSpec;
 use crate::stats::{MeasureSummary, PairTest, StatsReport, fmt_num};
-use crate::store::TrialRecord;
+use brdf_experiment::spec::InstanceSpec;
+use brdf_experiment::store::TrialRecord;
 
 /// A number in a right-aligned cell.
 fn num(v: Option<f64>) -> String {

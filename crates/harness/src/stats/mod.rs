@@ -47,8 +47,8 @@ pub use rtd::{
 };
 pub use tables::{configs_csv, csv_field, fmt_num, fmt_target, table, tests_csv};
 
-use crate::seed::StableHasher;
-use crate::store::TrialRecord;
+use brdf_experiment::seed::StableHasher;
+use brdf_experiment::store::TrialRecord;
 
 /// Summary of one (instance, configuration, target) in one measure.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

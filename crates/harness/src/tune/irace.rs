@@ -1,6 +1,6 @@
 //! irace's side of tuning: the parameter file, the instance list, the scenario, the
-//! target-runner script, finding the `irace` command, and reading the elite configurations
-//! from irace's output.
+//! target-runner script, finding the `irace` command, and reading irace's output (its
+//! progress lines, the elite configurations and their parameter switches).
 //!
 //! Every path written into the scenario is absolute, so irace may be started from any
 //! directory. The target-runner is a two-line shell script that calls `brdf-sls trial` with
@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{ParamType, TuneParameter, TuneSpec, parse_switches};
+use brdf_experiment::spec::tune::{ParamType, TuneParameter, TuneSpec, toml_value};
 
 /// File names inside the irace directory.
 pub const PARAMETER_FILE: &str = "parameters.txt";
@@ -223,6 +223,38 @@ pub fn find_irace() -> Option<IraceCommand> {
     })
 }
 
+/// irace's lines worth showing without `--verbose`: iteration starts and budget left.
+pub fn is_progress(line: &str) -> bool {
+    (line.starts_with("# ") && line.contains("Iteration ") && line.contains(" of "))
+        || line.starts_with("# remainingBudget:")
+}
+
+/// Parses irace's switches (`--phi 1.3 --rho0 25`) into `(name, value)` pairs.
+pub fn parse_switches(args: &[String]) -> Result<Vec<(String, toml::Value)>, String> {
+    let mut out: Vec<(String, toml::Value)> = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let Some(name) = a.strip_prefix("--").filter(|n| !n.is_empty()) else {
+            return Err(format!(
+                "`{a}`: expected a parameter switch `--NAME VALUE` (irace's bound argument is \
+                 not supported: leave capping off)"
+            ));
+        };
+        let (name, value) = match name.split_once('=') {
+            Some((n, v)) => (n.to_string(), v.to_string()),
+            None => match it.next() {
+                Some(v) => (name.to_string(), v.clone()),
+                None => return Err(format!("`{a}`: missing value")),
+            },
+        };
+        if out.iter().any(|(n, _)| *n == name) {
+            return Err(format!("`--{name}` given twice"));
+        }
+        out.push((name, toml_value(&value)));
+    }
+    Ok(out)
+}
+
 /// One elite configuration from irace's output.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Elite {
@@ -267,4 +299,40 @@ pub fn parse_elites(output: &str, t: &TuneSpec) -> Result<Vec<Elite>, String> {
         return Err(format!("irace's `{ELITES_HEADING}` block is empty"));
     }
     Ok(elites)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use brdf_experiment::spec::tune::with_values;
+    use sls::AlgorithmConfig;
+
+    #[test]
+    fn switches_and_values() {
+        let args: Vec<String> = ["--phi", "1.3", "--rho0", "25", "--on_failure=restart"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let v = parse_switches(&args).unwrap();
+        assert_eq!(v[0], ("phi".into(), toml::Value::Float(1.3)));
+        assert_eq!(v[1], ("rho0".into(), toml::Value::Integer(25)));
+        assert_eq!(v[2].1, toml::Value::String("restart".into()));
+        assert!(parse_switches(&["--phi".to_string()]).is_err());
+        assert!(parse_switches(&["12.5".to_string()]).is_err());
+        let twice: Vec<String> = ["--phi", "1", "--phi", "2"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        assert!(parse_switches(&twice).is_err());
+        let base = AlgorithmConfig::default_for("aed").unwrap();
+        let c = with_values(&base, &v[..2]).unwrap();
+        let a = c.downcast_ref::<sls::AedConfig>().expect("kind changed");
+        assert_eq!((a.phi, a.rho0), (1.3, 25));
+        // An integer for a real field is accepted; a fraction for an integer field is not.
+        assert!(with_values(&base, &[("phi".into(), toml::Value::Integer(2))]).is_ok());
+        assert!(with_values(&base, &[("rho0".into(), toml::Value::Float(2.5))]).is_err());
+        assert!(with_values(&base, &[("phi".into(), toml::Value::Float(0.5))]).is_err());
+        let e = with_values(&base, &[("psi".into(), toml::Value::Float(1.5))]).unwrap_err();
+        assert!(e.contains("rho0"), "{e}");
+    }
 }

@@ -4,12 +4,13 @@
 
 use std::path::Path;
 
+use brdf_experiment::spec::Spec;
+use brdf_experiment::spec::tune::{TuneSpec, base_table, with_values};
 use sls::{AlgorithmConfig, DescentModel};
 
 use super::irace::Elite;
-use super::{TuneSpec, base_table, with_values};
 
-/// What the validation spec takes from the tuning spec (see `Spec::tuning_source`).
+/// What the validation spec takes from the tuning spec (see [`TuningSource::of`]).
 #[derive(Clone, Copy, Debug)]
 pub struct TuningSource<'a> {
     /// The tuning experiment's name.
@@ -22,6 +23,21 @@ pub struct TuningSource<'a> {
     pub algorithm: &'a AlgorithmConfig,
     /// The tuned configuration's descent model.
     pub descent: DescentModel,
+}
+
+impl<'a> TuningSource<'a> {
+    /// What the validation spec after tuning takes from `spec`: its name, trials, base
+    /// directory and the configuration labelled `label` (`None` when there is none).
+    pub fn of(spec: &'a Spec, label: &str) -> Option<Self> {
+        let c = spec.configurations.iter().find(|c| c.label == label)?;
+        Some(TuningSource {
+            name: &spec.name,
+            trials: spec.trials,
+            base_dir: &spec.base_dir,
+            algorithm: &c.algorithm,
+            descent: c.descent,
+        })
+    }
 }
 
 /// The label of the untuned configuration in the validation spec.

@@ -11,6 +11,8 @@
 //!    guarding a results file (everything that changes a trial's result, not the trial count,
 //!    the other targets, plots or statistics options).
 //! 5. `describe`: the readable plan `brdf-sls check` and `run` print.
+//!
+//! The optional `[tune]` table (automatic tuning with irace) is read and checked by [`tune`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -25,6 +27,7 @@ pub mod limits;
 mod parsed;
 mod plan;
 mod sweep;
+pub mod tune;
 mod validate;
 
 pub use crate::duration::human_seconds;
@@ -423,7 +426,7 @@ pub struct Spec {
     /// Statistics options.
     pub stats: StatsSpec,
     /// The optional `[tune]` table (`brdf-sls tune`); not part of the fingerprint.
-    pub tune: Option<crate::tune::TuneSpec>,
+    pub tune: Option<tune::TuneSpec>,
     /// Directory relative paths resolve against.
     pub base_dir: PathBuf,
     /// The spec's TOML text (stored in the results header so `plot`/`stats` can work from a
@@ -563,19 +566,6 @@ impl Spec {
             .iter()
             .filter_map(|i| Some((i.name.clone(), i.best_known.clone()?)))
             .collect()
-    }
-
-    /// What the validation spec after tuning takes from this spec: its name, trials, base
-    /// directory and the configuration labelled `label` (`None` when there is none).
-    pub fn tuning_source(&self, label: &str) -> Option<crate::tune::validation::TuningSource<'_>> {
-        let c = self.configurations.iter().find(|c| c.label == label)?;
-        Some(crate::tune::validation::TuningSource {
-            name: &self.name,
-            trials: self.trials,
-            base_dir: &self.base_dir,
-            algorithm: &c.algorithm,
-            descent: c.descent,
-        })
     }
 
     /// Each instance's targets.

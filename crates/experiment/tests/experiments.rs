@@ -2,12 +2,12 @@
 
 use std::path::Path;
 
-use harness::spec::{Source, Spec};
+use brdf_experiment::spec::{Source, Spec};
 
 #[test]
 fn shipped_experiments_are_valid() {
     // experiments/baselines.toml has algorithms written in Python: read, as `check` reads them.
-    harness::python_kind::register_read_only();
+    brdf_experiment::python_kind::register_read_only();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments");
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
@@ -24,7 +24,7 @@ fn shipped_experiments_are_valid() {
                     path.display(),
                     resolved.display()
                 );
-                harness::instance::build(i).unwrap();
+                brdf_experiment::instance::build(i).unwrap();
             }
         }
         assert!(!spec.describe(2).is_empty());
@@ -33,5 +33,5 @@ fn shipped_experiments_are_valid() {
     assert!(n >= 4, "found {n} experiments");
     // The crate's embedded copy of the default is the user-facing file, byte for byte.
     let on_disk = std::fs::read_to_string(dir.join("default.toml")).unwrap();
-    assert_eq!(on_disk, harness::spec::DEFAULT_SPEC);
+    assert_eq!(on_disk, brdf_experiment::spec::DEFAULT_SPEC);
 }

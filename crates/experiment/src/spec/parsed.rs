@@ -36,9 +36,9 @@ pub(super) struct ParsedSpec {
     pub(super) plots: PlotSpec,
     #[serde(default)]
     pub(super) stats: StatsSpec,
-    /// Optional `[tune]` table (automatic tuning with irace; see `crate::tune`).
+    /// Optional `[tune]` table (automatic tuning with irace; see `super::tune`).
     #[serde(default)]
-    pub(super) tune: Option<Spanned<crate::tune::ParsedTune>>,
+    pub(super) tune: Option<Spanned<super::tune::ParsedTune>>,
 }
 
 #[derive(Deserialize)]

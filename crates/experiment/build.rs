@@ -21,7 +21,7 @@ fn git(root: &Path, args: &[&str]) -> Option<String> {
         .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
-/// The workspace root when this crate sits in it as `crates/harness` (a checkout), else `None`
+/// The workspace root when this crate sits in it as `crates/experiment` (a checkout), else `None`
 /// (a packaged crate, e.g. under `target/package/` or a registry's cache, whose parent
 /// directories belong to some other project's git history, not to this code's).
 fn workspace_root(manifest: &Path) -> Option<PathBuf> {
@@ -30,7 +30,7 @@ fn workspace_root(manifest: &Path) -> Option<PathBuf> {
         (Ok(a), Ok(b)) => a == b,
         _ => false,
     };
-    (same(&root.join("crates/harness"), manifest) && root.join("Cargo.toml").is_file())
+    (same(&root.join("crates/experiment"), manifest) && root.join("Cargo.toml").is_file())
         .then_some(root)
 }
 
@@ -76,7 +76,18 @@ fn main() {
     }
     // The workspace's crates, whole (sources, manifests, tests: what `-modified` looks at);
     // not all of crates/, whose Python crate keeps its own target/ there.
-    for p in ["model", "lm", "sls", "graphics", "stress", "harness"] {
+    for p in [
+        "model",
+        "lm",
+        "sls",
+        "graphics",
+        "stress",
+        "experiment",
+        "analysis",
+        "tune",
+        "bench",
+        "harness",
+    ] {
         watch(root.join("crates").join(p));
     }
     for p in ["Cargo.toml", "Cargo.lock"] {

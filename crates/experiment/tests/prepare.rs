@@ -4,10 +4,10 @@
 
 mod common;
 
-use harness::instance::builds_on_this_thread;
-use harness::prepare::{PrepareError, prepare};
-use harness::run::{RunOptions, SlsExecutor, run_locked};
-use harness::store::{DirLock, StoreError, results_reads_on_this_thread};
+use brdf_experiment::instance::builds_on_this_thread;
+use brdf_experiment::prepare::{PrepareError, prepare};
+use brdf_experiment::run::{RunOptions, SlsExecutor, run_locked};
+use brdf_experiment::store::{DirLock, StoreError, results_reads_on_this_thread};
 
 /// Two instances, one with a relative target (so its best-known RMSE must be computed), a
 /// short evaluation budget.
@@ -35,13 +35,13 @@ fn counted<T>(f: impl FnOnce() -> T) -> (T, usize, usize) {
 }
 
 /// Prepares and runs `spec` into `dir` the way `brdf-sls run` does.
-fn prepare_and_run(text: &str, dir: &std::path::Path) -> harness::run::RunOutcome {
+fn prepare_and_run(text: &str, dir: &std::path::Path) -> brdf_experiment::run::RunOutcome {
     let spec = common::spec(text, dir);
     let p = prepare(spec, dir).unwrap();
     let exec = SlsExecutor::from_built(&p.spec, &p.built, brdf_model::Kernel::Auto).unwrap();
     let options = RunOptions {
         threads: 1,
-        progress: harness::progress::ProgressMode::Quiet,
+        progress: brdf_experiment::progress::ProgressMode::Quiet,
         ..RunOptions::default()
     };
     run_locked(&p.spec, None, p.folder, &options, &exec).unwrap()
@@ -64,7 +64,7 @@ fn a_run_reads_its_results_once_and_builds_each_instance_once() {
     assert_eq!((reads, builds), (1, 2));
     assert_eq!((second.resumed, second.new_trials), (6, 6));
     // The outcome's sessions are the file's: reading it back gives the same.
-    let back = harness::store::read_results(dir.path()).unwrap();
+    let back = brdf_experiment::store::read_results(dir.path()).unwrap();
     assert_eq!(back.sessions, second.sessions);
     assert_eq!(back.records.len(), 12);
 }
@@ -72,7 +72,11 @@ fn a_run_reads_its_results_once_and_builds_each_instance_once() {
 #[test]
 fn nothing_is_read_or_built_before_the_lock_is_held() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join(harness::store::TRIALS_FILE), "not read\n").unwrap();
+    std::fs::write(
+        dir.path().join(brdf_experiment::store::TRIALS_FILE),
+        "not read\n",
+    )
+    .unwrap();
     let held = DirLock::acquire(dir.path()).unwrap();
     let spec = common::spec(&two_instances(), dir.path());
     let (result, reads, builds) = counted(|| prepare(spec, dir.path()));

@@ -7,13 +7,13 @@
 //! not listed by any error; for them the test checks that each documented key is accepted and
 //! is not also a parameter of some algorithm.
 //!
-//! Only the public API is used (`harness::spec::Spec::parse`), so the test does not depend on
-//! how the spec module is organised inside.
+//! Only the public API is used (`brdf_experiment::spec::Spec::parse`), so the test does not
+//! depend on how the spec module is organised inside.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use harness::spec::Spec;
+use brdf_experiment::spec::Spec;
 
 const DOC: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

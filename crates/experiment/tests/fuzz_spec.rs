@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use harness::spec::{Spec, limits};
+use brdf_experiment::spec::{Spec, limits};
 use proptest::prelude::*;
 
 const EXTREMES: &[&str] = &[

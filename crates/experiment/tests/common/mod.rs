@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use harness::spec::Spec;
-use harness::store::TrialRecord;
+use brdf_experiment::spec::Spec;
+use brdf_experiment::store::TrialRecord;
 
 /// A tiny experiment: 400 noisy samples of the tuning BRDF, AED (two sweep points) and RPLS,
 /// an evaluation budget only (so trials are deterministic in their seed, independent of speed).

@@ -521,20 +521,20 @@ pub(super) fn name(cx: &Ctx<'_>, raw: Option<String>, stem: &str) -> Result<Stri
 }
 
 /// The optional `[tune]` table, checked against the instances, configurations and budget
-/// (see [`crate::tune`]).
+/// (see [`tune`](super::tune)).
 pub(super) fn tune(
     cx: &Ctx<'_>,
-    raw: Spanned<crate::tune::ParsedTune>,
+    raw: Spanned<super::tune::ParsedTune>,
     instances: &[InstanceSpec],
     configurations: &[super::Configuration],
     budget: &Budget,
-) -> Result<crate::tune::TuneSpec, SpecError> {
+) -> Result<super::tune::TuneSpec, SpecError> {
     let line = cx.line(&raw);
     let names: Vec<String> = instances.iter().map(|i| i.name.clone()).collect();
     let configs: Vec<(String, sls::AlgorithmConfig)> = configurations
         .iter()
         .map(|c| (c.label.clone(), c.algorithm.clone()))
         .collect();
-    crate::tune::TuneSpec::from_raw(raw.into_inner(), &names, &configs, budget)
+    super::tune::TuneSpec::from_raw(raw.into_inner(), &names, &configs, budget)
         .map_err(|m| cx.invalid(line, m))
 }
