@@ -10,7 +10,6 @@
 //! - [`figures`]: RTD, sweep, trace, scatter, error-time and COCO-style ECDF charts built from
 //!   the statistics (drawn by `brdf_graphics`).
 //! - [`report`]: statistics and plots for a finished (or partial) results directory.
-//! - [`tune`]: automatic tuning with irace (scenario files, target runner, elites).
 //! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
 //! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
 //!   comparisons.
@@ -28,7 +27,6 @@ pub mod html;
 pub mod report;
 pub mod stats;
 pub mod stress_charts;
-pub mod tune;
 
 #[cfg(feature = "cli")]
 mod cli;

@@ -38,6 +38,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-model", "bounded-lm"],
     &["sls", "brdf-graphics", "brdf-stress"],
     &["brdf-experiment"],
+    &["brdf-tune"],
     &["harness"],
     &["brdf-sls-py"],
 ];

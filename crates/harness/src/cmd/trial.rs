@@ -1,9 +1,9 @@
 //! `brdf-sls trial`: one trial of one configuration on one instance with one seed, printing
 //! one number (the cost) on standard output: irace's target-runner convention.
 
-use crate::tune::irace::parse_switches;
 use anyhow::{Context, Result};
 use brdf_experiment::spec::tune::{CostKind, CostRule, with_values};
+use brdf_tune::irace::parse_switches;
 
 use super::shared::load_spec;
 use super::{bail_input, flush_stdout, input_error, say};

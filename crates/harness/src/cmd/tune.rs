@@ -6,11 +6,11 @@ use std::io::{BufRead as _, BufReader, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::tune::irace::{self, Elite};
-use crate::tune::validation::{TuningSource, elite_label, validation_spec};
 use anyhow::{Context, Result, bail};
 use brdf_experiment::spec::Spec;
 use brdf_experiment::spec::tune::{MAX_BUDGET, TuneSpec};
+use brdf_tune::irace::{self, Elite};
+use brdf_tune::validation::{TuningSource, elite_label, validation_spec};
 
 use super::shared::{default_out, load_spec};
 use super::{bail_input, input_error, note, say};
