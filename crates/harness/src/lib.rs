@@ -1,36 +1,13 @@
-//! The brdf-sls experiment harness: run-time distribution statistics and plots of results
-//! folders, and the command line.
+//! The `brdf-sls` command line: every command, flag, message and exit status, over the
+//! libraries that do the work (`brdf_experiment`, `brdf_analysis`, `brdf_tune`, `brdf_bench`).
 //!
-//! The command line ([`cli_main`]: `src/cli/` declares the flags, `src/cmd/` runs the
-//! commands; built with the default `cli` feature, the only user of clap) is a thin layer over
-//! this library and `brdf_experiment`. `src/main.rs`, the `brdf-sls` binary, only calls it.
-//!
-//! - [`stats`]: run-time distributions (Kaplan-Meier), quantiles, ERT with bootstrap, pairwise
-//!   tests (Mann-Whitney, KS, log-rank) with Holm's correction, tables.
-//! - [`figures`]: RTD, sweep, trace, scatter, error-time and COCO-style ECDF charts built from
-//!   the statistics (drawn by `brdf_graphics`).
-//! - [`report`]: statistics and plots for a finished (or partial) results directory.
-//! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
-//! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
-//!   comparisons.
-//! - [`html`]: self-contained HTML pages: the report of results folders, a comparison, and
-//!   the stress and bench pages.
-//! - [`stress_charts`]: the charts of a stress report (files and page alike).
-//! - [`compare`]: before and after: matched results of two folders judged faster, slower, not
-//!   significantly different or not comparable (and why).
+//! [`cli_main`] is the whole program; `src/cli/` declares the flags (clap derive) and the
+//! shared value parsers, `src/cmd/` runs the commands (one file each). `src/main.rs`, the
+//! `brdf-sls` binary, only calls [`cli_main`], so a crate that registers algorithms of its own
+//! gets the same program by calling it too.
+#![warn(missing_docs)]
 
-pub mod compare;
-pub mod export;
-pub mod figures;
-pub mod folder;
-pub mod html;
-pub mod report;
-pub mod stats;
-pub mod stress_charts;
-
-#[cfg(feature = "cli")]
 mod cli;
-#[cfg(feature = "cli")]
 mod cmd;
 
 /// The whole `brdf-sls` command line (every command, flag, message and exit status): parses
@@ -47,7 +24,6 @@ mod cmd;
 ///     harness::cli_main()
 /// }
 /// ```
-#[cfg(feature = "cli")]
 pub fn cli_main() -> std::process::ExitCode {
     cmd::main()
 }

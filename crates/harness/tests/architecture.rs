@@ -38,7 +38,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-model", "bounded-lm"],
     &["sls", "brdf-graphics", "brdf-stress"],
     &["brdf-experiment"],
-    &["brdf-tune"],
+    &["brdf-analysis", "brdf-tune"],
     &["harness"],
     &["brdf-sls-py"],
 ];

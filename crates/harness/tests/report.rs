@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use harness::html::wellformed;
+use brdf_analysis::html::wellformed;
 
 fn brdf_sls(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_brdf-sls"))

@@ -143,10 +143,15 @@ fn run_spec(
     let contents = read_store(&a.out)
         .context("reading back the results")
         .map_err(classify)?;
-    let report =
-        harness::report::write_report(spec, &outcome.records, &contents.sessions, &a.out, a.plots)
-            .context("writing statistics and plots")
-            .map_err(classify)?;
+    let report = brdf_analysis::report::write_report(
+        spec,
+        &outcome.records,
+        &contents.sessions,
+        &a.out,
+        a.plots,
+    )
+    .context("writing statistics and plots")
+    .map_err(classify)?;
     if let Some(message) = executor.failure_message(outcome.missing) {
         return Err(input_err(message));
     }
@@ -264,7 +269,7 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
     d.set_item("header", to_python(py, &contents.header)?)?;
     d.set_item("spec_name", spec.name.clone())?;
     d.set_item("planned", spec.trials_plan().len())?;
-    let present = harness::report::plan_records(&spec, &contents.records).len();
+    let present = brdf_analysis::report::plan_records(&spec, &contents.records).len();
     d.set_item("present", present)?;
     d.set_item("records", to_python(py, &contents.records)?)?;
     d.set_item("stats", to_python(py, &stats)?)?;
@@ -277,7 +282,7 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
 type Loaded = (
     brdf_experiment::store::Contents,
     Spec,
-    harness::stats::StatsReport,
+    brdf_analysis::stats::StatsReport,
     Vec<String>,
 );
 
@@ -294,7 +299,7 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
                 run_err(message)
             }
         })?;
-    let mut spec = harness::report::stored_spec(&contents, dir).map_err(input_err)?;
+    let mut spec = brdf_analysis::report::stored_spec(&contents, dir).map_err(input_err)?;
     // As `brdf-sls stats`: the recorded best-known RMSEs (computed for older folders). Only
     // relative targets need them; without those, a folder whose data cannot be found again
     // (older folders store data paths relative to the spec) is still read, with a warning.
@@ -314,6 +319,6 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
             warnings.push(format!("no best-known RMSEs: {}", chain(e)));
         }
     }
-    let stats = harness::report::compute_stats(&spec, &contents.records);
+    let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
     Ok((contents, spec, stats, warnings))
 }

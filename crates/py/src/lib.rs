@@ -1,5 +1,6 @@
 //! `brdf_sls._native`: the Python extension module of brdf-sls, built with maturin from the
-//! workspace's crates (brdf-model, sls, harness), so nothing is implemented twice.
+//! workspace's crates (brdf-model, sls, brdf-experiment, brdf-analysis), so nothing is
+//! implemented twice.
 //!
 //! - [`algorithm`]: `kind = "python"`, search algorithms written in Python (the `Problem` class).
 //! - [`data`]: the `DataSet` class (Cornell, CSV, MERL files, numpy arrays, synthetic data).

@@ -165,7 +165,7 @@ pub struct ResultsArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ExportFormat {
     /// IOHprofiler's format: one JSON meta file per (configuration, instance) and .dat files
-    /// of the runs (see `crate::export`).
+    /// of the runs (see `brdf_analysis::export`).
     Ioh,
 }
 

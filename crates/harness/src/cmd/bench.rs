@@ -549,13 +549,16 @@ fn page(
     machine: &brdf_experiment::machine::MachineInfo,
     written_unix: u64,
 ) -> String {
-    use crate::html::{date, document, escape, key_values, para, section, table};
+    use brdf_analysis::html::{date, document, escape, key_values, para, section, table};
     let title = "brdf-sls bench";
     let mut body = format!("<h1>{title}</h1>\n");
     body.push_str(&key_values(&[
         ("program", escape(&r.program_version)),
         ("CPU", escape(&r.cpu)),
-        ("machine", escape(&crate::html::machine_text(machine))),
+        (
+            "machine",
+            escape(&brdf_analysis::html::machine_text(machine)),
+        ),
         ("written", date(written_unix)),
         (
             "peak of one core",
@@ -716,7 +719,7 @@ mod tests {
         assert_eq!(met, [false, false, false, true, false, false]);
         let machine = brdf_experiment::machine::MachineInfo::current(1);
         let html = page(&r, &machine, 0);
-        crate::html::wellformed::check(&html).unwrap();
+        brdf_analysis::html::wellformed::check(&html).unwrap();
         assert!(html.contains("Test &lt;CPU&gt; &amp; co"));
         assert!(html.contains("1970-01-01T00:00:00Z"));
         for k in &r.kernels {

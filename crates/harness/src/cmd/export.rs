@@ -31,7 +31,7 @@ pub fn export(a: ExportArgs) -> Result<()> {
         &dir.display().to_string(),
         "instances and configurations are",
     )?;
-    let records = crate::report::plan_records(&spec, &contents.records);
+    let records = brdf_analysis::report::plan_records(&spec, &contents.records);
     let planned = spec.trials_plan().len();
     if records.len() < planned {
         note!(
@@ -44,8 +44,8 @@ pub fn export(a: ExportArgs) -> Result<()> {
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let done = match a.format {
         ExportFormat::Ioh => {
-            crate::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
-                crate::export::ExportError::NameClash { .. } => input_error(e.to_string()),
+            brdf_analysis::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
+                brdf_analysis::export::ExportError::NameClash { .. } => input_error(e.to_string()),
                 other => anyhow::Error::new(other),
             })?
         }

@@ -121,7 +121,7 @@ pub fn merge(a: MergeArgs) -> Result<()> {
             ", partial"
         }
     );
-    let report = crate::report::write_report(
+    let report = brdf_analysis::report::write_report(
         &outcome.spec,
         &outcome.records,
         &outcome.sessions,

@@ -54,9 +54,9 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             }
             s
         }
-        None => match crate::report::stored_spec(&contents, &dir) {
+        None => match brdf_analysis::report::stored_spec(&contents, &dir) {
             Ok(s) => s,
-            Err(crate::report::StoredSpecError::Spec(e)) => return Err(e.into()),
+            Err(brdf_analysis::report::StoredSpecError::Spec(e)) => return Err(e.into()),
             Err(e) => return Err(input_error(e.to_string())),
         },
     };
@@ -77,15 +77,15 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         note!("note: ignoring a torn last line ({} bytes)", t.len());
     }
     let planned = spec.trials_plan().len();
-    let present = crate::report::plan_records(&spec, &contents.records).len();
+    let present = brdf_analysis::report::plan_records(&spec, &contents.records).len();
     if present < planned {
         note!(
             "note: partial results: {present} of {planned} trials present (run the spec again to resume)"
         );
     }
     if a.print_only {
-        let stats = crate::report::compute_stats(&spec, &contents.records);
-        say!("{}", crate::stats::table(&stats));
+        let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
+        say!("{}", brdf_analysis::stats::table(&stats));
         let summary = brdf_experiment::best_known::summary(&spec);
         if !summary.is_empty() {
             say!("{}", summary.trim_end());
@@ -101,8 +101,13 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             dir.display()
         )
     })?;
-    let report =
-        crate::report::write_report(&spec, &contents.records, &contents.sessions, &dir, plots)?;
+    let report = brdf_analysis::report::write_report(
+        &spec,
+        &contents.records,
+        &contents.sessions,
+        &dir,
+        plots,
+    )?;
     say!("{}", report.table);
     say!("wrote {} files to {}", report.files.len(), dir.display());
     Ok(())

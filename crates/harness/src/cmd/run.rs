@@ -97,12 +97,17 @@ pub fn run(a: RunArgs) -> Result<()> {
             String::new()
         }
     );
-    let report =
-        crate::report::write_report(spec, &outcome.records, &outcome.sessions, &out, !a.no_plots)
-            .context("writing statistics and plots")?;
+    let report = brdf_analysis::report::write_report(
+        spec,
+        &outcome.records,
+        &outcome.sessions,
+        &out,
+        !a.no_plots,
+    )
+    .context("writing statistics and plots")?;
     let mut written = report.files.len();
     if !a.no_plots {
-        let folder = crate::folder::Folder::from_run(&out, spec.clone(), &outcome);
+        let folder = brdf_analysis::folder::Folder::from_run(&out, spec.clone(), &outcome);
         super::report::write_report_page(&[folder], &out.join("report.html"))?;
         written += 1;
     }

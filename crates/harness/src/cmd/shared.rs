@@ -57,7 +57,7 @@ pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     Ok(Evaluator::new(&layout).rmse(&x, data))
 }
 
-/// The spec a results folder was last run with (`crate::report::stored_spec`): a stored text
+/// The spec a results folder was last run with (`brdf_analysis::report::stored_spec`): a stored text
 /// that no longer parses is that spec's error; a folder without one is an input error whose
 /// message starts with `what` (the flag or folder the user named) and says what is unknown.
 pub fn stored_spec(
@@ -66,11 +66,11 @@ pub fn stored_spec(
     what: &str,
     unknown: &str,
 ) -> Result<Spec> {
-    match crate::report::stored_spec(contents, dir) {
+    match brdf_analysis::report::stored_spec(contents, dir) {
         Ok(spec) => Ok(spec),
-        Err(crate::report::StoredSpecError::Spec(e)) => Err(e.into()),
-        Err(crate::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(format!(
-            "{what}: the header holds no spec text, so {unknown} unknown"
-        ))),
+        Err(brdf_analysis::report::StoredSpecError::Spec(e)) => Err(e.into()),
+        Err(brdf_analysis::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(
+            format!("{what}: the header holds no spec text, so {unknown} unknown"),
+        )),
     }
 }

@@ -46,7 +46,7 @@ pub fn stress(a: StressArgs) -> Result<()> {
         .with_context(|| format!("writing the report to {}", out.display()))?;
     let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
     let machine = brdf_experiment::machine::MachineInfo::current(report.threads);
-    let page = crate::html::stress_page(
+    let page = brdf_analysis::html::stress_page(
         &report,
         &charts,
         &machine,
@@ -133,7 +133,7 @@ fn draw_plots(report: &StressReport, dir: &Path) -> Result<(Vec<PathBuf>, Vec<Ch
     let formats = [ImageFormat::Png, ImageFormat::Svg];
     let mut files = Vec::new();
     let mut charts = Vec::new();
-    for (stem, c) in crate::stress_charts::charts(report) {
+    for (stem, c) in brdf_analysis::stress_charts::charts(report) {
         files.extend(chart::draw(&c, &dir.join(stem), &formats)?);
         charts.push(c);
     }

@@ -124,7 +124,7 @@ fn elites_csv(tune: &TuneSpec, elites: &[Elite]) -> String {
         s.push_str(&format!(
             "{},{},{}",
             i + 1,
-            crate::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
+            brdf_analysis::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
             e.id
         ));
         for p in &tune.parameters {

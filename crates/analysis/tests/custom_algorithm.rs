@@ -136,7 +136,7 @@ fn a_registered_algorithm_runs_stores_and_resumes_like_a_built_in() {
     let stored = brdf_experiment::store::read_results(&out).unwrap();
     assert_eq!(stored.header.fingerprint, spec.fingerprint());
     let report =
-        harness::report::write_report(&spec, &stored.records, &stored.sessions, &out, false)
+        brdf_analysis::report::write_report(&spec, &stored.records, &stored.sessions, &out, false)
             .unwrap();
     assert!(report.table.contains("PICKS"), "{}", report.table);
     let csv = std::fs::read_to_string(out.join("stats.csv")).unwrap();

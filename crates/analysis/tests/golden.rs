@@ -232,8 +232,8 @@ fn stats_table_of_fixed_records() {
     let mut spec = Spec::default_experiment();
     spec.trials = 20;
     let records = fixed_records(&spec);
-    let stats = harness::report::compute_stats(&spec, &records);
-    assert_golden("table.txt", &harness::stats::table(&stats));
+    let stats = brdf_analysis::report::compute_stats(&spec, &records);
+    assert_golden("table.txt", &brdf_analysis::stats::table(&stats));
 }
 
 #[test]
@@ -244,7 +244,7 @@ fn rtd_svg_of_fixed_records() {
     spec.plots.formats = vec![brdf_experiment::spec::PlotFormat::Svg];
     let records = fixed_records(&spec);
     let dir = tempfile::tempdir().unwrap();
-    harness::report::write_report(&spec, &records, &[], dir.path(), true).unwrap();
+    brdf_analysis::report::write_report(&spec, &records, &[], dir.path(), true).unwrap();
     let svg = std::fs::read_to_string(dir.path().join("plots/tuning-rtd-cpu-q0.11.svg")).unwrap();
     assert_golden("tuning-rtd-cpu-q0.11.svg", &svg);
 }
