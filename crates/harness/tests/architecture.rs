@@ -39,6 +39,7 @@ const LAYERS: &[&[&str]] = &[
     &["sls", "brdf-graphics", "brdf-stress"],
     &["brdf-experiment"],
     &["brdf-analysis", "brdf-tune"],
+    &["brdf-bench"],
     &["harness"],
     &["brdf-sls-py"],
 ];
