@@ -3,7 +3,8 @@
 //! evaluations to target on the paper's tuning (T2) and cross (T3) instances. Written as
 //! bench.md, bench.json and the page bench.html.
 //!
-//! [`measure`] takes the measurements into a [`BenchReport`]; [`write_files`] writes its three files.
+//! [`measure`] takes the measurements into a [`BenchReport`]; [`write_files`] writes its three
+//! files.
 #![warn(missing_docs)]
 
 use std::hint::black_box;

@@ -40,8 +40,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-experiment"],
     &["brdf-analysis", "brdf-tune"],
     &["brdf-bench"],
-    &["harness"],
-    &["brdf-sls-py"],
+    &["harness", "brdf-sls-py"],
 ];
 
 fn workspace() -> PathBuf {

@@ -57,9 +57,10 @@ pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     Ok(Evaluator::new(&layout).rmse(&x, data))
 }
 
-/// The spec a results folder was last run with (`brdf_analysis::report::stored_spec`): a stored text
-/// that no longer parses is that spec's error; a folder without one is an input error whose
-/// message starts with `what` (the flag or folder the user named) and says what is unknown.
+/// The spec a results folder was last run with (`brdf_analysis::report::stored_spec`): a
+/// stored text that no longer parses is that spec's error; a folder without one is an input
+/// error whose message starts with `what` (the flag or folder the user named) and says what is
+/// unknown.
 pub fn stored_spec(
     contents: &brdf_experiment::store::Contents,
     dir: &Path,
