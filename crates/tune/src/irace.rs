@@ -35,12 +35,27 @@ fn num(v: f64) -> String {
     }
 }
 
+/// irace's letter for a parameter type.
+pub fn type_letter(kind: ParamType) -> &'static str {
+    match kind {
+        ParamType::Int => "i",
+        ParamType::Real => "r",
+        ParamType::Categorical => "c",
+        ParamType::Ordinal => "o",
+    }
+}
+
+/// The switch irace puts before a parameter's value (`--phi `).
+pub fn switch(p: &TuneParameter) -> String {
+    format!("--{} ", p.name)
+}
+
 /// One line of irace's parameter file: `name "--name " type (range) | condition`.
 pub fn parameter_line(p: &TuneParameter) -> String {
     let kind = if p.log && p.kind.is_numeric() {
-        format!("{},log", p.kind.letter())
+        format!("{},log", type_letter(p.kind))
     } else {
-        p.kind.letter().to_string()
+        type_letter(p.kind).to_string()
     };
     let domain = match (p.kind, p.range) {
         (ParamType::Int | ParamType::Real, Some([lo, hi])) => format!("({}, {})", num(lo), num(hi)),
@@ -53,7 +68,7 @@ pub fn parameter_line(p: &TuneParameter) -> String {
                 .join(", ")
         ),
     };
-    let mut line = format!("{:<20} \"{}\" {:<6} {}", p.name, p.switch(), kind, domain);
+    let mut line = format!("{:<20} \"{}\" {:<6} {}", p.name, switch(p), kind, domain);
     if let Some(c) = &p.condition {
         line.push_str(&format!(" | {c}"));
     }

@@ -169,16 +169,6 @@ pub enum ParamType {
 }
 
 impl ParamType {
-    /// irace's type letter.
-    pub fn letter(self) -> &'static str {
-        match self {
-            ParamType::Int => "i",
-            ParamType::Real => "r",
-            ParamType::Categorical => "c",
-            ParamType::Ordinal => "o",
-        }
-    }
-
     /// Whether the parameter has a numeric range (else a list of values).
     pub fn is_numeric(self) -> bool {
         matches!(self, ParamType::Int | ParamType::Real)
@@ -251,13 +241,6 @@ pub struct TuneParameter {
     pub log: bool,
     /// irace condition.
     pub condition: Option<String>,
-}
-
-impl TuneParameter {
-    /// The switch irace puts before the value (`--phi `).
-    pub fn switch(&self) -> String {
-        format!("--{} ", self.name)
-    }
 }
 
 /// A validated `[tune]` table.
