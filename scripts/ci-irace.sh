@@ -17,8 +17,8 @@ BIN="$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")"
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
-# The same tiny spec as the tuning tests (crates/harness/tests/tune.rs).
-cp crates/harness/tests/data/tiny-tune.toml "$WORK/tiny-tune.toml"
+# The same tiny spec as the tuning tests (crates/tune/tests/tune.rs, crates/harness/tests/tune.rs).
+cp crates/tune/tests/data/tiny-tune.toml "$WORK/tiny-tune.toml"
 
 start=$(date +%s)
 "$BIN" tune "$WORK/tiny-tune.toml" --out "$WORK/out"

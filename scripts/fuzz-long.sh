@@ -2,7 +2,7 @@
 # Long fuzz run of the reader and parameter properties (crates/model/tests/fuzz_readers.rs):
 # parse_cornell, parse_csv, the ALTA reader (io::parse), MerlBrdf::from_bytes, parameter
 # JSON + validate + try_synthetic, and the try_synthetic limits; and of the spec parser
-# (crates/harness/tests/fuzz_spec.rs).
+# (crates/experiment/tests/fuzz_spec.rs).
 # Then the probes from outside (crates/harness/tests/probes.rs): FIFOs and links to them as
 # specs, results files, results folders and output files for every command that reads or
 # writes them; absurd --threads and budgets; huge labels; a locked folder; edited results.
@@ -24,7 +24,7 @@ PROPTEST_CASES=$cases cargo test --release -p brdf-model --test fuzz_readers \
     -- --nocapture --test-threads="$threads" >"$log" 2>&1
 status=$?
 if [ "$status" -eq 0 ]; then
-    PROPTEST_CASES=$cases cargo test --release -p harness --test fuzz_spec \
+    PROPTEST_CASES=$cases cargo test --release -p brdf-experiment --test fuzz_spec \
         -- --nocapture --test-threads="$threads" >>"$log" 2>&1
     status=$?
 fi

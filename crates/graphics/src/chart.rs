@@ -5,50 +5,13 @@
 //! statistics, a user's script) builds one; this module knows nothing about experiments.
 
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 
 use crate::ImageFormat as PlotFormat;
-use crate::files::{Figure, write_png, write_svg};
-
-/// Plot errors.
-#[derive(Debug, thiserror::Error)]
-pub enum PlotError {
-    /// Drawing failed.
-    #[error("{path}: drawing failed: {message}")]
-    Draw {
-        /// Output file.
-        path: PathBuf,
-        /// plotters' message.
-        message: String,
-    },
-    /// Writing failed.
-    #[error("{path}: {source}")]
-    Io {
-        /// Output file.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-}
-
-/// Registers DejaVu Sans as plotters' "sans-serif" (no system fonts needed). Idempotent.
-pub fn register_fonts() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // The bytes are a valid TTF shipped by the dejavu crate; a failure would leave text
-        // undrawable and every plot reports it.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
-    });
-}
+use crate::files::{Figure, PlotError, write_png, write_svg};
 
 /// The tab10 palette (distinguishable, colour-blind friendlier than pure RGB).
 pub const PALETTE: [RGBColor; 10] = [

@@ -1,16 +1,52 @@
 //! Writing output files so that a reader never sees half a file: plain bytes, and figures as
-//! PNG or SVG.
+//! PNG or SVG, with the font they are drawn in ([`register_fonts`]) and the error of a figure's
+//! file ([`PlotError`]).
 
 use std::fs::File;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
 
 use image::codecs::png::PngEncoder;
 use image::{ColorType, ImageEncoder};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::chart::{PlotError, register_fonts};
+/// Plot errors.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// Drawing failed.
+    #[error("{path}: drawing failed: {message}")]
+    Draw {
+        /// Output file.
+        path: PathBuf,
+        /// plotters' message.
+        message: String,
+    },
+    /// Writing failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// Output file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// Registers DejaVu Sans as plotters' "sans-serif" (no system fonts needed). Idempotent.
+pub fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bytes are a valid TTF shipped by the dejavu crate; a failure would leave text
+        // undrawable and every plot reports it.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
+    });
+}
 
 /// Something that draws itself on any plotters backend (a chart, a polar figure).
 pub trait Figure {

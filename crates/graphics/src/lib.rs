@@ -6,7 +6,7 @@
 //! - [`chart`]: line and point charts with bands and reference lines (RTDs, sweeps, traces).
 //! - [`polar`]: the BRDF in the plane of incidence, measured against fitted (Figure 18).
 //! - [`render`]: a flat square lit by a point light, seen by a pinhole camera (Figures 8, 12).
-//! - [`files`]: atomic writes of output files.
+//! - [`files`]: atomic writes of output files, figures as PNG and SVG, their font and errors.
 
 pub mod chart;
 pub mod files;
@@ -14,7 +14,7 @@ pub mod polar;
 pub mod render;
 pub mod target;
 
-pub use chart::PlotError;
+pub use files::PlotError;
 /// Colours of series and curves.
 pub use plotters::style::RGBColor;
 

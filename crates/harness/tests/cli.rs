@@ -1,5 +1,6 @@
 //! The `brdf-sls` binary: every command runs and fails cleanly on bad input.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::path::Path;

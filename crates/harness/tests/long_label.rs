@@ -1,12 +1,13 @@
 //! Configuration labels of any length: new specs are held to `MAX_LABEL_CHARS`, and results
 //! written before the limit (labels of 65,536 characters and more) stay readable by `stats`.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::path::Path;
 use std::process::{Command, Output};
 
-use harness::spec::limits::MAX_LABEL_CHARS;
+use brdf_experiment::spec::limits::MAX_LABEL_CHARS;
 
 fn brdf_sls(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_brdf-sls"))

@@ -6,6 +6,7 @@
 //! these probes too. No probe touches a real device node: FIFOs stand in for them.
 #![cfg(unix)]
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::os::unix::fs::{FileTypeExt, symlink};
@@ -220,7 +221,7 @@ fn stats_and_plot_refuse_a_folder_a_run_holds() {
     let tmp = with_a_run();
     let done = tmp.path().join("done");
     {
-        let _held = harness::store::DirLock::acquire(&done).unwrap();
+        let _held = brdf_experiment::store::DirLock::acquire(&done).unwrap();
         for cmd in ["stats", "plot"] {
             let before = std::fs::read(done.join("stats.csv")).unwrap();
             let o = brdf_sls(tmp.path(), &[cmd, "done"]);
@@ -388,7 +389,8 @@ fn a_huge_label_and_huge_numbers_fail_cleanly_or_parse() {
         ("samples = 200", "samples = 9223372036854775807"),
     ] {
         let text = SPEC.replace(from, &to.replace("AAAA", &"L".repeat(70_000)));
-        let parsed = harness::spec::Spec::parse(&text, "probe.toml", "probe", Path::new("."));
+        let parsed =
+            brdf_experiment::spec::Spec::parse(&text, "probe.toml", "probe", Path::new("."));
         if let Ok(spec) = parsed {
             let _ = spec.describe(2);
         }

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use harness::store::read_results;
+use brdf_experiment::store::read_results;
 
 /// Trials that each spend a fixed evaluation budget (the target 0 is never reached), so every
 /// trial's outcome is a function of its seed alone.
@@ -144,7 +144,7 @@ fn a_second_run_on_a_folder_in_use_fails_at_once_naming_the_holder() {
     .unwrap();
     let mut first = command(dir, "shared").spawn().unwrap();
     let lock = dir.join("shared/.lock");
-    let results = dir.join("shared").join(harness::store::TRIALS_FILE);
+    let results = dir.join("shared").join(brdf_experiment::store::TRIALS_FILE);
     let started = Instant::now();
     // The lock is taken before the instances are built; wait for the results file too, so the
     // first run is writing trials when the second starts.

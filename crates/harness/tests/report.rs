@@ -1,12 +1,13 @@
 //! `brdf-sls report`, `compare`, `completions` and `man`, and BRDF_SLS_THREADS, through the
 //! binary on a tiny experiment run twice.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::path::Path;
 use std::process::{Command, Output};
 
-use harness::html::wellformed;
+use brdf_analysis::html::wellformed;
 
 fn brdf_sls(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_brdf-sls"))

@@ -3,15 +3,16 @@
 //! per-trial outcomes, duplicates are removed, missing trials fail the merge unless
 //! `--allow-partial`, merging is idempotent, and shards of a different spec are refused.
 
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use harness::progress::ProgressMode;
-use harness::run::{RunOptions, SlsExecutor, run_experiment, run_shard};
-use harness::shard::Shard;
-use harness::store::{TRIALS_FILE, read_results};
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{RunOptions, SlsExecutor, run_experiment, run_shard};
+use brdf_experiment::shard::Shard;
+use brdf_experiment::store::{TRIALS_FILE, read_results};
 
 use common::{TINY, deterministic_view, spec};
 
@@ -131,7 +132,7 @@ fn in_process_shards_merge_to_the_single_run() {
         assert_eq!(read_results(&out).unwrap().header.shard, Some(shard));
         inputs.push(out);
     }
-    let merged = harness::merge::merge(&dir.path().join("merged"), &inputs, false).unwrap();
+    let merged = brdf_experiment::merge::merge(&dir.path().join("merged"), &inputs, false).unwrap();
     assert!(merged.missing.is_empty() && merged.duplicates.is_empty());
     assert!(merged.written.is_some());
     assert_eq!(
@@ -146,7 +147,7 @@ fn in_process_shards_merge_to_the_single_run() {
     let header = read_results(&dir.path().join("merged")).unwrap().header;
     assert_eq!(header.shard, None);
     assert!(!header.kernel.is_empty());
-    assert_eq!(header.program_version, harness::PROGRAM_VERSION);
+    assert_eq!(header.program_version, brdf_experiment::PROGRAM_VERSION);
 }
 
 #[test]

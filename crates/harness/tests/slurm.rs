@@ -11,10 +11,10 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use harness::progress::ProgressMode;
-use harness::run::{RunOptions, SlsExecutor, run_experiment};
-use harness::spec::Spec;
-use harness::store::{TrialRecord, read_results};
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{RunOptions, SlsExecutor, run_experiment};
+use brdf_experiment::spec::Spec;
+use brdf_experiment::store::{TrialRecord, read_results};
 
 /// An evaluation budget only (no CPU time), so every trial's outcome, censored or not, is a
 /// function of its seed; the portable kernel, so any node computes the same bits.

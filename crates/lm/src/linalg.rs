@@ -377,7 +377,6 @@ pub(crate) fn backward_solve(l: &[f64], n: usize, b: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::qr::householder_qr;
 
     type Passes = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
 
@@ -587,47 +586,6 @@ mod tests {
         let mut w = vec![0.0; shifted_scratch_len(n)];
         shifted_triangular(&t, &u, n, 3.5, &mut tl, &mut ul, &mut w, false);
         assert!(tl.iter().any(|v| v.is_nan()), "plain rotations: {tl:?}");
-    }
-
-    #[test]
-    fn qr_and_shift_match_normal_equations() {
-        // J is 4x3; check R^T R = J^T J, and tl^T tl = R^T R + lam I.
-        let j = [1.0, 2.0, 0.5, -1.0, 0.3, 1.0, 2.0, 0.0, -2.0, 1.0, 1.0, 3.0];
-        let mut a = j;
-        let mut rhs = [1.0, -1.0, 2.0, 0.5];
-        householder_qr(&mut a, 4, 3, &mut rhs);
-        let mut r = [0.0; 9];
-        for c in 0..3 {
-            for i in 0..=c {
-                r[c * 3 + i] = a[c * 4 + i];
-            }
-        }
-        let lam = 0.7;
-        let (mut tl, mut ul, mut w) = ([0.0; 9], [0.0; 3], [0.0; 12]);
-        shifted_triangular(&r, &rhs[..3], 3, lam, &mut tl, &mut ul, &mut w, true);
-        for c1 in 0..3 {
-            for c2 in 0..3 {
-                let jtj: f64 = (0..4).map(|i| j[c1 * 4 + i] * j[c2 * 4 + i]).sum();
-                let rtr: f64 = (0..3).map(|i| r[c1 * 3 + i] * r[c2 * 3 + i]).sum();
-                let ttt: f64 = (0..3).map(|i| tl[c1 * 3 + i] * tl[c2 * 3 + i]).sum();
-                assert!((jtj - rtr).abs() < 1e-12);
-                let shift = if c1 == c2 { lam } else { 0.0 };
-                assert!((jtj + shift - ttt).abs() < 1e-12);
-            }
-        }
-        // Solves: T z = b and T^T q = b.
-        let mut z = [1.0, 2.0, 3.0];
-        upper_solve(&r, 3, &mut z);
-        let mut q = z;
-        for i in 0..3 {
-            let v: f64 = (i..3).map(|c| r[c * 3 + i] * z[c]).sum();
-            assert!((v - [1.0, 2.0, 3.0][i]).abs() < 1e-12);
-        }
-        upper_transpose_solve(&r, 3, &mut q);
-        for i in 0..3 {
-            let v: f64 = (0..=i).map(|k| r[i * 3 + k] * q[k]).sum();
-            assert!((v - z[i]).abs() < 1e-12);
-        }
     }
 
     #[test]

@@ -22,11 +22,10 @@ use std::cell::Cell;
 use std::ptr::NonNull;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use harness::python_kind::PythonEntry;
+use brdf_experiment::python_kind::PythonEntry;
 use numpy::ndarray::{Array2, ShapeBuilder};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
-use pyo3::create_exception;
-use pyo3::exceptions::{PyBaseException, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rand::Rng;
@@ -34,15 +33,7 @@ use serde::{Deserialize, Serialize};
 use sls::registry::Algorithm;
 use sls::{ConfigError, DescentLimits, Rows, Search, Stop};
 
-create_exception!(
-    _native,
-    BudgetExhausted,
-    PyBaseException,
-    "The trial is over: its target is reached or its budget (evaluations, CPU seconds) spent. \
-     Raised by every method of a Problem from then on, and in the algorithm's thread by a \
-     watchdog once it runs past a CPU budget without calling them. A BaseException, so that \
-     `except Exception` in an algorithm does not swallow it; let it propagate (or return)."
-);
+use crate::support::BudgetExhausted;
 
 /// An algorithm written in Python: `[[algorithm]] kind = "python"`, `entry =
 /// "package.module:function"`, and any other keys, which are passed to the function as keyword
@@ -53,7 +44,7 @@ create_exception!(
 pub struct PythonAlgorithm(pub PythonEntry);
 
 impl Algorithm for PythonAlgorithm {
-    const KIND: &'static str = harness::python_kind::KIND;
+    const KIND: &'static str = brdf_experiment::python_kind::KIND;
 
     /// Checks the entry's form, then imports the module and looks the function up (so a
     /// misspelt entry is an error of the experiment file, before any trial runs).

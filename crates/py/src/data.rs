@@ -4,14 +4,13 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use brdf_experiment::spec::{DataFormat, FileSpec};
 use brdf_model::{Channel, DataSet, MAX_SAMPLES};
-use harness::spec::{DataFormat, FileSpec};
 use numpy::ndarray::{Array2, ArrayView1};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 
-use crate::model::parse_params;
-use crate::support::{enum_value, input_err};
+use crate::support::{enum_value, input_err, parse_params};
 
 /// BRDF samples: incident directions `u`, exitant directions `v` (unit vectors in the surface
 /// frame, both pointing away from the surface, z the normal) and measured values.
@@ -141,7 +140,7 @@ impl PyDataSet {
             drop_below_horizon: !keep_below_horizon,
         };
         let (data, report) = py
-            .detach(|| harness::fit::load_data(&fs))
+            .detach(|| brdf_experiment::fit::load_data(&fs))
             .map_err(input_err)?;
         Ok(PyDataSet::new(data, Some(report.to_string())))
     }
@@ -233,7 +232,7 @@ impl PyDataSet {
     fn write_csv(&self, path: PathBuf) -> PyResult<()> {
         let mut buf = Vec::new();
         self.data.write_csv(&mut buf).map_err(input_err)?;
-        harness::store::write_atomic(&path, &buf)
+        brdf_experiment::store::write_atomic(&path, &buf)
             .map_err(|e| crate::support::run_err(format!("writing {}: {e}", path.display())))
     }
 }

@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use anyhow::Context;
-use brdf_model::Kernel;
-use harness::progress::ProgressMode;
-use harness::run::{
+use brdf_experiment::progress::ProgressMode;
+use brdf_experiment::run::{
     Executor, Provenance, RunError, RunOptions, SlsExecutor, default_threads, run_experiment,
 };
-use harness::spec::{PlannedTrial, Spec};
-use harness::store::{StoreError, read_results as read_store};
+use brdf_experiment::spec::{PlannedTrial, Spec};
+use brdf_experiment::store::{StoreError, read_results as read_store};
+use brdf_model::Kernel;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -82,10 +82,10 @@ pub fn run(
         Some(k) => k.parse().map_err(input_err)?,
         None => loaded.kernel,
     };
-    let out = out.unwrap_or_else(|| PathBuf::from(harness::DEFAULT_RUNS_DIR).join(stem));
+    let out = out.unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem));
     // As `brdf-sls run`: relative targets need the best-known RMSEs (recorded or computed).
     let warnings = py
-        .detach(|| harness::best_known::resolve_for_run(&mut loaded, Some(&out)))
+        .detach(|| brdf_experiment::best_known::resolve_for_run(&mut loaded, Some(&out)))
         .context("finding the best-known RMSEs")
         .map_err(classify)?;
     let args = RunArgs {
@@ -143,10 +143,15 @@ fn run_spec(
     let contents = read_store(&a.out)
         .context("reading back the results")
         .map_err(classify)?;
-    let report =
-        harness::report::write_report(spec, &outcome.records, &contents.sessions, &a.out, a.plots)
-            .context("writing statistics and plots")
-            .map_err(classify)?;
+    let report = brdf_analysis::report::write_report(
+        spec,
+        &outcome.records,
+        &contents.sessions,
+        &a.out,
+        a.plots,
+    )
+    .context("writing statistics and plots")
+    .map_err(classify)?;
     if let Some(message) = executor.failure_message(outcome.missing) {
         return Err(input_err(message));
     }
@@ -226,8 +231,8 @@ impl Executor for PyExecutor<'_> {
 /// 2) or RunError (status 1), with the command line's message.
 fn classify(e: anyhow::Error) -> PyErr {
     let input = e.chain().any(|c| {
-        c.is::<harness::spec::SpecError>()
-            || c.is::<harness::instance::InstanceError>()
+        c.is::<brdf_experiment::spec::SpecError>()
+            || c.is::<brdf_experiment::instance::InstanceError>()
             || c.is::<brdf_model::KernelError>()
             || matches!(
                 c.downcast_ref::<RunError>(),
@@ -264,7 +269,7 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
     d.set_item("header", to_python(py, &contents.header)?)?;
     d.set_item("spec_name", spec.name.clone())?;
     d.set_item("planned", spec.trials_plan().len())?;
-    let present = harness::report::plan_records(&spec, &contents.records).len();
+    let present = brdf_analysis::report::plan_records(&spec, &contents.records).len();
     d.set_item("present", present)?;
     d.set_item("records", to_python(py, &contents.records)?)?;
     d.set_item("stats", to_python(py, &stats)?)?;
@@ -275,9 +280,9 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
 
 /// A folder's contents, its spec, its statistics and warnings.
 type Loaded = (
-    harness::store::Contents,
+    brdf_experiment::store::Contents,
     Spec,
-    harness::stats::StatsReport,
+    brdf_analysis::stats::StatsReport,
     Vec<String>,
 );
 
@@ -294,12 +299,12 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
                 run_err(message)
             }
         })?;
-    let mut spec = harness::report::stored_spec(&contents, dir).map_err(input_err)?;
+    let mut spec = brdf_analysis::report::stored_spec(&contents, dir).map_err(input_err)?;
     // As `brdf-sls stats`: the recorded best-known RMSEs (computed for older folders). Only
     // relative targets need them; without those, a folder whose data cannot be found again
     // (older folders store data paths relative to the spec) is still read, with a warning.
     let mut warnings = Vec::new();
-    match harness::best_known::resolve(&mut spec, contents.best_known()) {
+    match brdf_experiment::best_known::resolve(&mut spec, contents.best_known()) {
         // Instances left without a best-known RMSE (their data is not found again) are named.
         Ok(resolved) => warnings.extend(resolved.notes),
         Err(e) => {
@@ -314,6 +319,6 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
             warnings.push(format!("no best-known RMSEs: {}", chain(e)));
         }
     }
-    let stats = harness::report::compute_stats(&spec, &contents.records);
+    let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
     Ok((contents, spec, stats, warnings))
 }

@@ -1,11 +1,11 @@
-//! `fit`: one seeded fit of one data set with any algorithm, through `harness::fit` (the code
-//! behind `brdf-sls fit`), so the same seed gives the same fit as the command line.
+//! `fit`: one seeded fit of one data set with any algorithm, through `brdf_experiment::fit`
+//! (the code behind `brdf-sls fit`), so the same seed gives the same fit as the command line.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+use brdf_experiment::fit::{FitError, FitOutcome, FitRequest, Surface};
 use brdf_model::{ExponentCoord, Kernel, LobeKind};
-use harness::fit::{FitError, FitOutcome, FitRequest, Surface};
 use numpy::PyArray1;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
@@ -54,10 +54,11 @@ pub fn fit(
     config: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
-    harness::fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
-    let algorithm = harness::fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
-        .map_err(input_err)?;
-    let model = harness::fit::model_spec(
+    brdf_experiment::fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
+    let algorithm =
+        brdf_experiment::fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
+            .map_err(input_err)?;
+    let model = brdf_experiment::fit::model_spec(
         Surface::Python,
         lobes,
         enum_value::<LobeKind>("kind", kind)?,
@@ -77,12 +78,12 @@ pub fn fit(
         kernel,
         descent,
         polish,
-        progress: harness::fit::FitProgress::Quiet,
+        progress: brdf_experiment::fit::FitProgress::Quiet,
         surface: Surface::Python,
     };
     let (outcome, failure) = interruptible(py, |flag| {
         let outcome = crate::algorithm::with_cpu_cutoff(Some(cpu_seconds), || {
-            harness::fit::fit(data, &request, Some(flag))
+            brdf_experiment::fit::fit(data, &request, Some(flag))
         });
         // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
         (outcome, crate::algorithm::take_failure())
@@ -110,7 +111,7 @@ fn data_arg(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Arc<brdf_model:
     let path: std::path::PathBuf = data
         .extract()
         .map_err(|_| input_err("data: expected a DataSet or the path of a data file"))?;
-    let fs = harness::spec::FileSpec {
+    let fs = brdf_experiment::spec::FileSpec {
         path,
         format: None,
         wavelength: None,
@@ -120,7 +121,7 @@ fn data_arg(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Arc<brdf_model:
         drop_below_horizon: true,
     };
     let (d, _) = py
-        .detach(|| harness::fit::load_non_empty(&fs))
+        .detach(|| brdf_experiment::fit::load_non_empty(&fs))
         .map_err(input_err)?;
     Ok(Arc::new(d))
 }

@@ -1,10 +1,11 @@
 //! `brdf_sls._native`: the Python extension module of brdf-sls, built with maturin from the
-//! workspace's crates (brdf-model, sls, harness), so nothing is implemented twice.
+//! workspace's crates (brdf-model, sls, brdf-experiment, brdf-analysis), so nothing is
+//! implemented twice.
 //!
 //! - [`algorithm`]: `kind = "python"`, search algorithms written in Python (the `Problem` class).
 //! - [`data`]: the `DataSet` class (Cornell, CSV, MERL files, numpy arrays, synthetic data).
 //! - [`model`]: the `Model` class (evaluate, residuals, RMSE, Jacobian) and `rmse`.
-//! - [`fitting`]: `fit`, one seeded fit with any algorithm (`harness::fit`).
+//! - [`fitting`]: `fit`, one seeded fit with any algorithm (`brdf_experiment::fit`).
 //! - [`experiment`]: `run` an experiment spec, `read_results` of a results folder.
 //! - [`support`]: errors as Python exceptions, Ctrl-C, conversions.
 //! - [`watchdog`]: raises `BudgetExhausted` in a Python algorithm that runs past its CPU cutoff.
@@ -30,10 +31,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     algorithm::register();
     m.add("InputError", py.get_type::<support::InputError>())?;
     m.add("RunError", py.get_type::<support::RunError>())?;
-    m.add(
-        "BudgetExhausted",
-        py.get_type::<algorithm::BudgetExhausted>(),
-    )?;
+    m.add("BudgetExhausted", py.get_type::<support::BudgetExhausted>())?;
     m.add_class::<algorithm::Problem>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<data::PyDataSet>()?;

@@ -4,35 +4,14 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 
-use brdf_model::{BrdfParams, DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind};
+use brdf_model::{DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind};
 use numpy::ndarray::{Array2, ArrayView1, ShapeBuilder};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::data::{PyDataSet, dataset_from_arrays};
-use crate::support::{enum_value, input_err, to_python};
-
-/// Parameters from Python: a paper name ("tuning", "cross", "paper-bluepaint",
-/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}`, its
-/// JSON text (the `json:` line of `brdf-sls fit`) or `"@FILE"` holding that JSON; read by
-/// `harness::params` (what `--params` and specs use) and checked against the model's box.
-pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
-    let text: String = if p.is_instance_of::<PyString>() {
-        p.extract()?
-    } else if p.is_instance_of::<PyDict>() {
-        let json = p.py().import("json")?;
-        json.call_method1("dumps", (p,))?.extract()?
-    } else {
-        return Err(input_err(format!(
-            "params: expected a name, a dict or JSON text, found {}",
-            p.get_type().name()?
-        )));
-    };
-    harness::params::parse_params("params", harness::params::ParamsInput::Text(&text))
-        .map(|g| g.params)
-        .map_err(input_err)
-}
+use crate::support::{enum_value, input_err, parse_params, to_python};
 
 /// The parameters of a paper name ("tuning", "cross", ...) as a dict.
 #[pyfunction]
@@ -134,8 +113,8 @@ impl PyModel {
         fixed: Option<BTreeMap<String, f64>>,
         kernel: &str,
     ) -> PyResult<Self> {
-        let spec = harness::fit::model_spec(
-            harness::fit::Surface::Python,
+        let spec = brdf_experiment::fit::model_spec(
+            brdf_experiment::fit::Surface::Python,
             lobes,
             enum_value::<LobeKind>("kind", kind)?,
             enum_value::<ExponentCoord>("exponent", exponent)?,

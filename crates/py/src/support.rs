@@ -1,12 +1,13 @@
-//! What every binding needs: the two exception classes, running long calls without the GIL
-//! while answering Ctrl-C, and conversions of Python values.
+//! What every binding needs: the exception classes, running long calls without the GIL while
+//! answering Ctrl-C, and conversions of Python values (parameters among them).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use brdf_model::BrdfParams;
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyBaseException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
 
@@ -23,6 +24,16 @@ create_exception!(
     PyRuntimeError,
     "A failure while running (a results folder in use, a full disk, a fit that evaluated \
      nothing): the command line exits with status 1 on it. The message is the command line's."
+);
+
+create_exception!(
+    _native,
+    BudgetExhausted,
+    PyBaseException,
+    "The trial is over: its target is reached or its budget (evaluations, CPU seconds) spent. \
+     Raised by every method of a Problem from then on, and in the algorithm's thread by a \
+     watchdog once it runs past a CPU budget without calling them. A BaseException, so that \
+     `except Exception` in an algorithm does not swallow it; let it propagate (or return)."
 );
 
 /// An [`InputError`] with `message`.
@@ -123,6 +134,30 @@ pub fn to_python<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<
     let text = serde_json::to_string(value).map_err(run_err)?;
     let json = py.import("json")?;
     Ok(json.call_method1("loads", (text,))?.unbind())
+}
+
+/// Parameters from Python: a paper name ("tuning", "cross", "paper-bluepaint",
+/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}`, its
+/// JSON text (the `json:` line of `brdf-sls fit`) or `"@FILE"` holding that JSON; read by
+/// `brdf_experiment::params` (what `--params` and specs use) and checked against the model's box.
+pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
+    let text: String = if p.is_instance_of::<PyString>() {
+        p.extract()?
+    } else if p.is_instance_of::<PyDict>() {
+        let json = p.py().import("json")?;
+        json.call_method1("dumps", (p,))?.extract()?
+    } else {
+        return Err(input_err(format!(
+            "params: expected a name, a dict or JSON text, found {}",
+            p.get_type().name()?
+        )));
+    };
+    brdf_experiment::params::parse_params(
+        "params",
+        brdf_experiment::params::ParamsInput::Text(&text),
+    )
+    .map(|g| g.params)
+    .map_err(input_err)
 }
 
 /// A Python dict of settings as `(name, TOML value)` pairs.

@@ -30,7 +30,7 @@ use std::time::Duration;
 use pyo3::ffi;
 use pyo3::prelude::*;
 
-use crate::algorithm::BudgetExhausted;
+use crate::support::BudgetExhausted;
 
 /// How often the watchdog reads the watched threads' CPU clocks.
 const POLL: Duration = Duration::from_millis(10);

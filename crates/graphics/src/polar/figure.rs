@@ -4,13 +4,12 @@ use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::text_anchor::{HPos, VPos};
 
-use super::panel::draw_panel;
+use super::panel::{GRID_TEXT, draw_panel, text_pos};
 use super::plot::{PolarPanel, PolarPlot, polar_panels};
 use crate::ImageFormat as PlotFormat;
-use crate::chart::{PlotError, register_fonts};
-use crate::files::{Figure, write_png, write_svg};
+use crate::files::{Figure, PlotError, register_fonts, write_png, write_svg};
 
 /// A polar plot laid out in panels, drawable on any backend.
 struct PolarFigure<'a, 'p> {
@@ -129,9 +128,6 @@ const TITLE_H: u32 = 44;
 /// Height in pixels of the legend strip.
 const LEGEND_H: u32 = 46;
 
-pub(super) const GRID: RGBColor = RGBColor(215, 215, 215);
-pub(super) const GRID_TEXT: RGBColor = RGBColor(90, 90, 90);
-
 fn draw_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     plot: &PolarPlot,
@@ -159,10 +155,6 @@ fn draw_figure<DB: DrawingBackend>(
         draw_panel(area, plot, panel)?;
     }
     draw_legend(&legend, plot)
-}
-
-pub(super) fn text_pos(h: HPos, v: VPos) -> Pos {
-    Pos::new(h, v)
 }
 
 fn draw_legend<DB: DrawingBackend>(

@@ -2,9 +2,8 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, VPos};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::figure::{GRID, GRID_TEXT, text_pos};
 use super::plot::{PolarPanel, PolarPlot};
 
 /// A "nice" ring spacing giving 3 to 6 rings up to `r`.
@@ -37,6 +36,13 @@ fn panel_title(panel: &PolarPanel) -> String {
             panel.dropped.len()
         )
     }
+}
+
+pub(super) const GRID: RGBColor = RGBColor(215, 215, 215);
+pub(super) const GRID_TEXT: RGBColor = RGBColor(90, 90, 90);
+
+pub(super) fn text_pos(h: HPos, v: VPos) -> Pos {
+    Pos::new(h, v)
 }
 
 pub(super) fn draw_panel<DB: DrawingBackend>(

@@ -4,9 +4,6 @@ use std::collections::BTreeMap;
 
 use brdf_model::{DataSet, Params};
 
-#[cfg(doc)]
-use super::plot::PolarPlot;
-
 /// Which samples count as lying in the plane of incidence at a given incident angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SliceSelection {
@@ -118,7 +115,7 @@ pub fn select_in_plane(
 
 /// The incident angles (degrees, rounded to 0.1) at which `data` has samples with both
 /// directions within `sel.plane_tol_deg` of the plane of incidence, with how many such samples
-/// each has, in increasing order. Use it to choose the panels of a [`PolarPlot`].
+/// each has, in increasing order. Use it to choose the panels of a [`PolarPlot`](super::PolarPlot).
 pub fn incident_angles(data: &DataSet, sel: &SliceSelection) -> Vec<(f64, usize)> {
     let (a, b) = sel.axes();
     let mut counts: BTreeMap<i64, usize> = BTreeMap::new();

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::spec::{DataFormat, FileSpec};
+use brdf_experiment::spec::{DataFormat, FileSpec};
 use clap::Args;
 
 use super::values::{choice, enum_value};

@@ -21,13 +21,13 @@ pub use model::{FitArgs, ParamArgs};
 pub use report::{CompareArgs, CompletionsArgs, ManArgs, ReportArgs, VerdictMeasure};
 pub use tune::{TrialArgs, TuneArgs};
 
-use crate::progress::ProgressMode;
+use brdf_experiment::progress::ProgressMode;
 
 /// `brdf-sls`: the top level.
 #[derive(Parser)]
 #[command(
     name = "brdf-sls",
-    version = crate::PROGRAM_VERSION,
+    version = brdf_experiment::PROGRAM_VERSION,
     about = "Stochastic local search for Lafortune BRDF fitting: experiments, statistics, plots",
     long_about = "Stochastic local search for Lafortune BRDF fitting (Backer, Kimberley and \
 Skrypnyk).\n\nStart with `brdf-sls run`: it runs the built-in default experiment (the paper's \
@@ -118,7 +118,7 @@ pub struct RunArgs {
     /// configuration c (from 0) when (t + i + c) mod N = K-1, each with the seed it has in a
     /// whole run; default output runs/<stem>/shard-K-of-N/. Merge with `brdf-sls merge`.
     #[arg(long, value_name = "K/N")]
-    pub shard: Option<crate::shard::Shard>,
+    pub shard: Option<brdf_experiment::shard::Shard>,
     /// Skip the plots and report.html (statistics are still written).
     #[arg(long)]
     pub no_plots: bool,
@@ -165,7 +165,7 @@ pub struct ResultsArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ExportFormat {
     /// IOHprofiler's format: one JSON meta file per (configuration, instance) and .dat files
-    /// of the runs (see `crate::export`).
+    /// of the runs (see `brdf_analysis::export`).
     Ioh,
 }
 

@@ -68,7 +68,7 @@ pub struct FitArgs {
     /// Progress on standard error (the best RMSE each second): auto (a line on a terminal
     /// unless CI=true, nothing otherwise), bars (that line), plain (lines), quiet.
     #[arg(long, value_enum, default_value = "auto")]
-    pub progress: crate::progress::ProgressMode,
+    pub progress: brdf_experiment::progress::ProgressMode,
 }
 
 /// Parameters: a named set, JSON, or flags.

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::tune::CostKind;
+use brdf_experiment::spec::tune::CostKind;
 
 /// `brdf-sls trial`: one trial, one number on standard output.
 #[derive(clap::Args)]

@@ -18,7 +18,7 @@ pub fn enum_value<T: DeserializeOwned>(s: &str) -> Result<T, String> {
 }
 
 /// A library enum chosen by name from `names` (listed in the help and in the error of any
-/// other value), parsed with its `FromStr`: the clap glue of [`crate::choice`].
+/// other value), parsed with its `FromStr`: the clap glue of [`brdf_experiment::choice`].
 pub fn choice<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
 where
     T: FromStr + Clone + Send + Sync + 'static,
@@ -70,10 +70,10 @@ pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {
 }
 
 /// A parameter set: a paper name (`tuning`, `cross`, ...), JSON as printed on the `json:` line
-/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`crate::params`] (checked
+/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`brdf_experiment::params`] (checked
 /// against the model's box).
 pub fn params(s: &str) -> Result<BrdfParams, String> {
-    crate::params::parse_params("--params", crate::params::ParamsInput::Text(s))
+    brdf_experiment::params::parse_params("--params", brdf_experiment::params::ParamsInput::Text(s))
         .map(|g| g.params)
         .map_err(|e| e.to_string())
 }
@@ -165,17 +165,17 @@ mod tests {
         assert!("1,2".parse::<Triple>().is_err());
         let cmd =
             clap::Command::new("t").arg(clap::Arg::new("p").long("p").value_parser(choice::<
-                crate::progress::ProgressMode,
+                brdf_experiment::progress::ProgressMode,
             >(
-                crate::progress::ProgressMode::NAMES,
+                brdf_experiment::progress::ProgressMode::NAMES,
             )));
         let m = cmd
             .clone()
             .try_get_matches_from(["t", "--p", "plain"])
             .unwrap();
         assert_eq!(
-            m.get_one::<crate::progress::ProgressMode>("p"),
-            Some(&crate::progress::ProgressMode::Plain)
+            m.get_one::<brdf_experiment::progress::ProgressMode>("p"),
+            Some(&brdf_experiment::progress::ProgressMode::Plain)
         );
         let e = cmd.try_get_matches_from(["t", "--p", "loud"]).unwrap_err();
         assert!(

@@ -1,8 +1,8 @@
 //! `brdf-sls check`: validate a spec and print its plan.
 
-use crate::best_known::{CHECK_MAX_SAMPLES, resolve_within, warnings};
-use crate::run::default_threads;
 use anyhow::{Context, Result};
+use brdf_experiment::best_known::{CHECK_MAX_SAMPLES, resolve_within, warnings};
+use brdf_experiment::run::default_threads;
 
 use super::shared::{default_out, load_spec};
 use super::{input_error, note, say};
@@ -12,12 +12,12 @@ use crate::cli::CheckArgs;
 pub fn check(a: CheckArgs) -> Result<()> {
     let mut spec = load_spec(&a.spec)?;
     if let Some(n) = a.threads {
-        crate::threads::check(n, "--threads").map_err(input_error)?;
+        brdf_experiment::threads::check(n, "--threads").map_err(input_error)?;
     }
     let threads = a.threads.or(spec.threads).unwrap_or_else(default_threads);
     say!("{}", spec.describe(threads).trim_end());
     for i in &spec.instances {
-        if let crate::spec::Source::File { resolved, .. } = &i.source
+        if let brdf_experiment::spec::Source::File { resolved, .. } = &i.source
             && !resolved.exists()
         {
             return Err(input_error(format!(
@@ -52,7 +52,7 @@ pub fn check(a: CheckArgs) -> Result<()> {
             String::new()
         }
     );
-    let summary = crate::best_known::summary(&spec);
+    let summary = brdf_experiment::best_known::summary(&spec);
     if !summary.is_empty() {
         say!("{}", summary.trim_end());
     }

@@ -1,9 +1,9 @@
 //! `brdf-sls compare`: before and after, as a verdict table, an HTML page and an exit status
 //! (1 when B is significantly slower anywhere, so CI can use it as a regression check).
 
-use crate::compare::{Options, compare as judge, entries, table};
-use crate::stats::Measure;
 use anyhow::{Context, Result};
+use brdf_analysis::compare::{Options, compare as judge, entries, table};
+use brdf_analysis::stats::Measure;
 
 use super::report::{folder_of, read_folder, write_page};
 use super::{bail_input, say};
@@ -45,7 +45,7 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     let out = a
         .out
         .unwrap_or_else(|| folder_of(&a.b).join("compare.html"));
-    let page = crate::html::compare_page(&fa, &fb, (&ea, &eb), &c)
+    let page = brdf_analysis::html::compare_page(&fa, &fb, (&ea, &eb), &c)
         .context("building the comparison page")?;
     write_page(&out, &page)?;
     say!("wrote {}", out.display());

@@ -15,7 +15,7 @@ pub fn generate(a: GenArgs) -> Result<()> {
         Some(p) => {
             let mut buf = Vec::new();
             data.write_csv(&mut buf)?;
-            crate::store::write_atomic(p, &buf)
+            brdf_experiment::store::write_atomic(p, &buf)
                 .with_context(|| format!("writing {}", p.display()))?;
             note!("wrote {} samples to {}", data.len(), p.display());
         }

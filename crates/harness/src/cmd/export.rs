@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use crate::store::read_results;
 use anyhow::{Context, Result};
+use brdf_experiment::store::read_results;
 
 use super::{input_error, note, say};
 use crate::cli::{ExportArgs, ExportFormat};
@@ -31,7 +31,7 @@ pub fn export(a: ExportArgs) -> Result<()> {
         &dir.display().to_string(),
         "instances and configurations are",
     )?;
-    let records = crate::report::plan_records(&spec, &contents.records);
+    let records = brdf_analysis::report::plan_records(&spec, &contents.records);
     let planned = spec.trials_plan().len();
     if records.len() < planned {
         note!(
@@ -40,12 +40,12 @@ pub fn export(a: ExportArgs) -> Result<()> {
         );
     }
     let out = a.out.clone().unwrap_or_else(|| dir.join("ioh"));
-    crate::input_file::check_out_dir(&out)
+    brdf_experiment::input_file::check_out_dir(&out)
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let done = match a.format {
         ExportFormat::Ioh => {
-            crate::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
-                crate::export::ExportError::NameClash { .. } => input_error(e.to_string()),
+            brdf_analysis::export::export_ioh(&spec, &records, &out).map_err(|e| match e {
+                brdf_analysis::export::ExportError::NameClash { .. } => input_error(e.to_string()),
                 other => anyhow::Error::new(other),
             })?
         }

@@ -1,11 +1,13 @@
 //! `brdf-sls fit`: one fit of one data set with one algorithm (the logic is the library's
-//! [`crate::fit`], shared with the Python package).
+//! [`brdf_experiment::fit`], shared with the Python package).
 
 use std::sync::Arc;
 
-use crate::fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
-use crate::progress::ProgressMode;
 use anyhow::{Context, Result};
+use brdf_experiment::fit::{
+    FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec,
+};
+use brdf_experiment::progress::ProgressMode;
 
 use super::shared::load_non_empty;
 use super::{input_error, say};
@@ -14,11 +16,11 @@ use crate::cli::FitArgs;
 /// `brdf-sls fit`.
 pub fn fit(a: FitArgs) -> Result<()> {
     check_budget(Surface::Cli, a.cpu_seconds, a.target)?;
-    if a.bootstrap > crate::spec::limits::MAX_BOOTSTRAP {
+    if a.bootstrap > brdf_experiment::spec::limits::MAX_BOOTSTRAP {
         return Err(input_error(format!(
             "--bootstrap {}: at most {}",
             a.bootstrap,
-            crate::spec::limits::MAX_BOOTSTRAP
+            brdf_experiment::spec::limits::MAX_BOOTSTRAP
         )));
     }
     let algorithm = algorithm_config(Surface::Cli, &a.algorithm, a.set.iter().cloned())?;
@@ -44,7 +46,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         progress: fit_progress(a.progress),
         surface: Surface::Cli,
     };
-    let fit = crate::fit::fit(data.clone(), &request, None)?;
+    let fit = brdf_experiment::fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);
     say!(
         "algorithm {} (seed {}, kernel {}, descent {}, brdf-sls {}), stop: {:?}",
@@ -52,7 +54,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         a.seed,
         fit.kernel,
         request.descent,
-        crate::PROGRAM_VERSION,
+        brdf_experiment::PROGRAM_VERSION,
         r.stop
     );
     say!(

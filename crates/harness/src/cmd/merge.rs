@@ -1,10 +1,10 @@
 //! `brdf-sls merge`: shard results folders into one results folder, then its statistics,
-//! table and plots (see [`crate::merge`]).
+//! table and plots (see [`brdf_experiment::merge`]).
 
 use std::collections::BTreeMap;
 
-use crate::merge::merge as merge_folders;
 use anyhow::{Context, Result, anyhow};
+use brdf_experiment::merge::merge as merge_folders;
 
 use super::{note, say};
 use crate::cli::MergeArgs;
@@ -14,7 +14,7 @@ const LIST_MISSING: usize = 20;
 
 /// `brdf-sls merge`.
 pub fn merge(a: MergeArgs) -> Result<()> {
-    crate::input_file::check_out_dir(&a.out)
+    brdf_experiment::input_file::check_out_dir(&a.out)
         .map_err(|e| super::input_error(format!("{}: {e}", a.out.display())))?;
     let outcome = merge_folders(&a.out, &a.shards, a.allow_partial)
         .with_context(|| format!("merging into {}", a.out.display()))?;
@@ -121,7 +121,7 @@ pub fn merge(a: MergeArgs) -> Result<()> {
             ", partial"
         }
     );
-    let report = crate::report::write_report(
+    let report = brdf_analysis::report::write_report(
         &outcome.spec,
         &outcome.records,
         &outcome.sessions,

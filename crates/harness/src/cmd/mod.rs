@@ -31,7 +31,7 @@ mod tune;
 pub fn main() -> std::process::ExitCode {
     use clap::Parser;
     use std::process::ExitCode;
-    crate::signals::ignore_file_size_signal();
+    brdf_experiment::signals::ignore_file_size_signal();
     let cli = match crate::cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -57,7 +57,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
     if reads_python_specs(&command) {
         // Specs and results with algorithms written in Python are read like any other; only
         // running them needs Python (`run` reads the spec, then hands it to Python).
-        crate::python_kind::register_read_only();
+        brdf_experiment::python_kind::register_read_only();
     }
     match command {
         Command::Run(a) => run::run(a),
@@ -161,36 +161,36 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
-            || crate::input_file::is_refused(c)
-            || c.is::<crate::seed_check::SeedMismatch>()
-            || c.is::<crate::spec::SpecError>()
+            || brdf_experiment::input_file::is_refused(c)
+            || c.is::<brdf_experiment::seed_check::SeedMismatch>()
+            || c.is::<brdf_experiment::spec::SpecError>()
             || c.is::<brdf_model::DataError>()
             || c.is::<brdf_model::ModelError>()
             || c.is::<brdf_model::ParamError>()
             || c.is::<sls::ConfigError>()
             || c.is::<brdf_model::KernelError>()
-            || c.downcast_ref::<crate::fit::FitError>()
+            || c.downcast_ref::<brdf_experiment::fit::FitError>()
                 .is_some_and(|f| f.is_input_error())
             || matches!(
-                c.downcast_ref::<crate::run::RunError>(),
+                c.downcast_ref::<brdf_experiment::run::RunError>(),
                 Some(
-                    crate::run::RunError::ShardMismatch { .. }
+                    brdf_experiment::run::RunError::ShardMismatch { .. }
                         // `Store` is transparent: the store's error is not in the chain itself.
-                        | crate::run::RunError::Store(
-                            crate::store::StoreError::FingerprintMismatch { .. }
-                                | crate::store::StoreError::DataChanged { .. }
-                                | crate::store::StoreError::BothPresent { .. }
+                        | brdf_experiment::run::RunError::Store(
+                            brdf_experiment::store::StoreError::FingerprintMismatch { .. }
+                                | brdf_experiment::store::StoreError::DataChanged { .. }
+                                | brdf_experiment::store::StoreError::BothPresent { .. }
                         )
                 )
             )
-            || c.downcast_ref::<crate::merge::MergeError>()
+            || c.downcast_ref::<brdf_experiment::merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())
             || matches!(
-                c.downcast_ref::<crate::store::StoreError>(),
+                c.downcast_ref::<brdf_experiment::store::StoreError>(),
                 Some(
-                    crate::store::StoreError::FingerprintMismatch { .. }
-                        | crate::store::StoreError::DataChanged { .. }
-                        | crate::store::StoreError::BothPresent { .. }
+                    brdf_experiment::store::StoreError::FingerprintMismatch { .. }
+                        | brdf_experiment::store::StoreError::DataChanged { .. }
+                        | brdf_experiment::store::StoreError::BothPresent { .. }
                 )
             )
     })
@@ -250,7 +250,7 @@ mod tests {
     #[test]
     fn a_cause_already_in_its_parents_message_is_printed_once() {
         let io = std::io::Error::new(std::io::ErrorKind::StorageFull, "No space left on device");
-        let store = crate::store::StoreError::Io {
+        let store = brdf_experiment::store::StoreError::Io {
             path: "runs/x/trials.jsonl".into(),
             source: io,
         };
@@ -264,7 +264,7 @@ mod tests {
     #[test]
     fn a_path_that_ends_the_parent_and_starts_the_cause_is_printed_once() {
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
-        let store = crate::store::StoreError::Io {
+        let store = brdf_experiment::store::StoreError::Io {
             path: "runs/x/trials.jsonl".into(),
             source: io,
         };

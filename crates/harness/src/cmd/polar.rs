@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::spec::DataFormat;
-use crate::store::read_results;
 use anyhow::{Context, Result};
+use brdf_experiment::spec::DataFormat;
+use brdf_experiment::store::read_results;
 use brdf_model::{BrdfParams, DataSet};
 
 use super::shared::{load_data, load_non_empty, params_rmse};

@@ -10,7 +10,7 @@ use anyhow::Result;
 
 use super::input_error;
 use crate::cli::RunArgs;
-use crate::spec::Spec;
+use brdf_experiment::spec::Spec;
 
 /// The environment variable naming the interpreter (default `python3` on the `PATH`).
 const PYTHON_VAR: &str = "BRDF_SLS_PYTHON";
@@ -20,7 +20,7 @@ const PYTHON_VAR: &str = "BRDF_SLS_PYTHON";
 pub fn uses_python(spec: &Spec) -> bool {
     spec.configurations
         .iter()
-        .any(|c| c.algorithm.kind_name() == crate::python_kind::KIND)
+        .any(|c| c.algorithm.kind_name() == brdf_experiment::python_kind::KIND)
 }
 
 /// Runs `python -m brdf_sls run` with the same flags and exits with its status, or fails with
@@ -97,7 +97,7 @@ mod tests {
 
     #[test]
     fn python_kinds_are_found_among_the_configurations() {
-        crate::python_kind::register_read_only();
+        brdf_experiment::python_kind::register_read_only();
         let spec = |algorithms: &str| {
             let text = format!(
                 "name = \"t\"\nseed = 1\ntrials = 1\n[budget]\nevaluations = 1000\n[[instance]]\nname = \"i\"\n\

@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::folder::Folder;
 use anyhow::{Context, Result};
+use brdf_analysis::folder::Folder;
 
 use super::{input_error, note, say};
 use crate::cli::ReportArgs;
@@ -51,12 +51,12 @@ pub fn folder_of(path: &Path) -> PathBuf {
 
 /// Builds the report page of `folders` and writes it to `out` atomically.
 pub fn write_report_page(folders: &[Folder], out: &Path) -> Result<()> {
-    let page = crate::html::report_page(folders).context("building the report page")?;
+    let page = brdf_analysis::html::report_page(folders).context("building the report page")?;
     write_page(out, &page)
 }
 
 /// Writes a page atomically (a reader never sees half of it).
 pub fn write_page(out: &Path, page: &str) -> Result<()> {
-    crate::store::write_atomic(out, page.as_bytes())
+    brdf_experiment::store::write_atomic(out, page.as_bytes())
         .with_context(|| format!("writing {}", out.display()))
 }

@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use crate::store::read_results;
 use anyhow::{Context, Result};
+use brdf_experiment::store::read_results;
 
 use super::shared::{default_out, load_spec};
 use super::{input_error, note, say};
@@ -54,36 +54,39 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
             }
             s
         }
-        None => match crate::report::stored_spec(&contents, &dir) {
+        None => match brdf_analysis::report::stored_spec(&contents, &dir) {
             Ok(s) => s,
-            Err(crate::report::StoredSpecError::Spec(e)) => return Err(e.into()),
+            Err(brdf_analysis::report::StoredSpecError::Spec(e)) => return Err(e.into()),
             Err(e) => return Err(input_error(e.to_string())),
         },
     };
     // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
-    let resolved = crate::best_known::resolve(&mut spec, contents.best_known())
+    let resolved = brdf_experiment::best_known::resolve(&mut spec, contents.best_known())
         .context("finding the best-known RMSEs")?;
     for n in resolved.notes {
         note!("note: {n}");
     }
-    let below = crate::best_known::below_best_known(&spec, &contents.records);
-    for w in crate::best_known::warnings(&spec).into_iter().chain(below) {
+    let below = brdf_experiment::best_known::below_best_known(&spec, &contents.records);
+    for w in brdf_experiment::best_known::warnings(&spec)
+        .into_iter()
+        .chain(below)
+    {
         note!("{w}");
     }
     if let Some(t) = &contents.torn {
         note!("note: ignoring a torn last line ({} bytes)", t.len());
     }
     let planned = spec.trials_plan().len();
-    let present = crate::report::plan_records(&spec, &contents.records).len();
+    let present = brdf_analysis::report::plan_records(&spec, &contents.records).len();
     if present < planned {
         note!(
             "note: partial results: {present} of {planned} trials present (run the spec again to resume)"
         );
     }
     if a.print_only {
-        let stats = crate::report::compute_stats(&spec, &contents.records);
-        say!("{}", crate::stats::table(&stats));
-        let summary = crate::best_known::summary(&spec);
+        let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
+        say!("{}", brdf_analysis::stats::table(&stats));
+        let summary = brdf_experiment::best_known::summary(&spec);
         if !summary.is_empty() {
             say!("{}", summary.trim_end());
         }
@@ -91,15 +94,20 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     }
     // The folder's lock, held while writing: a running `run` holds it (and would rewrite these
     // files when it ends), so writing now would race with it.
-    let _lock = crate::store::DirLock::acquire(&dir).with_context(|| {
+    let _lock = brdf_experiment::store::DirLock::acquire(&dir).with_context(|| {
         format!(
             "not writing {} into {}",
             if plots { "plots" } else { "statistics" },
             dir.display()
         )
     })?;
-    let report =
-        crate::report::write_report(&spec, &contents.records, &contents.sessions, &dir, plots)?;
+    let report = brdf_analysis::report::write_report(
+        &spec,
+        &contents.records,
+        &contents.sessions,
+        &dir,
+        plots,
+    )?;
     say!("{}", report.table);
     say!("wrote {} files to {}", report.files.len(), dir.display());
     Ok(())

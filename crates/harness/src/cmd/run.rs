@@ -1,9 +1,9 @@
 //! `brdf-sls run`: run or resume an experiment, then write its statistics, table and plots.
 
-use crate::prepare::{PrepareError, prepare};
-use crate::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
-use crate::spec::Spec;
 use anyhow::{Context, Result};
+use brdf_experiment::prepare::{PrepareError, prepare};
+use brdf_experiment::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
+use brdf_experiment::spec::Spec;
 
 use super::shared::{default_out, load_spec};
 use super::{input_error, note, say};
@@ -28,7 +28,7 @@ pub fn run(a: RunArgs) -> Result<()> {
             None => base,
         }
     });
-    crate::input_file::check_out_dir(&out)
+    brdf_experiment::input_file::check_out_dir(&out)
         .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
     let threads = useful_threads(&a, &spec)?;
     let kernel = a.kernel.unwrap_or(spec.kernel);
@@ -42,7 +42,7 @@ pub fn run(a: RunArgs) -> Result<()> {
     let spec = &prepared.spec;
     note!("{}", spec.describe(threads));
     note!("results: {}", out.display());
-    let machine = crate::machine::MachineInfo::current(threads);
+    let machine = brdf_experiment::machine::MachineInfo::current(threads);
     note!(
         "machine: {}, {} logical CPUs, {} worker thread(s)",
         machine.cpu_model,
@@ -85,7 +85,7 @@ pub fn run(a: RunArgs) -> Result<()> {
     note!(
         "{} new trials in {} wall on {} thread(s) ({} resumed){}",
         outcome.new_trials,
-        crate::spec::human_seconds(outcome.wall_seconds),
+        brdf_experiment::spec::human_seconds(outcome.wall_seconds),
         threads,
         outcome.resumed,
         if outcome.missing > 0 {
@@ -97,12 +97,17 @@ pub fn run(a: RunArgs) -> Result<()> {
             String::new()
         }
     );
-    let report =
-        crate::report::write_report(spec, &outcome.records, &outcome.sessions, &out, !a.no_plots)
-            .context("writing statistics and plots")?;
+    let report = brdf_analysis::report::write_report(
+        spec,
+        &outcome.records,
+        &outcome.sessions,
+        &out,
+        !a.no_plots,
+    )
+    .context("writing statistics and plots")?;
     let mut written = report.files.len();
     if !a.no_plots {
-        let folder = crate::folder::Folder::from_run(&out, spec.clone(), &outcome);
+        let folder = brdf_analysis::folder::Folder::from_run(&out, spec.clone(), &outcome);
         super::report::write_report_page(&[folder], &out.join("report.html"))?;
         written += 1;
     }
@@ -115,12 +120,12 @@ pub fn run(a: RunArgs) -> Result<()> {
 }
 
 /// The worker threads of a run: the flag's, else the spec's, else all CPUs; refused above
-/// [`crate::threads::MAX_THREADS`], and capped (with a note) at the trials of the plan (or
-/// shard, or `--limit`) and the logical CPUs.
+/// [`brdf_experiment::threads::MAX_THREADS`], and capped (with a note) at the trials of the
+/// plan (or shard, or `--limit`) and the logical CPUs.
 fn useful_threads(a: &RunArgs, spec: &Spec) -> Result<usize> {
     let requested = match a.threads {
         Some(n) => {
-            crate::threads::check(n, "--threads").map_err(input_error)?;
+            brdf_experiment::threads::check(n, "--threads").map_err(input_error)?;
             n
         }
         None => spec.threads.unwrap_or_else(default_threads),
@@ -130,7 +135,7 @@ fn useful_threads(a: &RunArgs, spec: &Spec) -> Result<usize> {
         None => spec.trials_plan().len(),
     };
     let trials = a.limit.map_or(planned, |l| planned.min(l));
-    let (threads, capped) = crate::threads::useful(requested, trials, default_threads());
+    let (threads, capped) = brdf_experiment::threads::useful(requested, trials, default_threads());
     if let Some(c) = capped {
         note!("note: {c}");
     }

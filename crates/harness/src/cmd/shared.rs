@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::spec::Spec;
 use anyhow::Result;
+use brdf_experiment::spec::Spec;
 use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
 
 use super::{input_error, note};
@@ -21,13 +21,13 @@ pub fn default_out(spec: Option<&Path>) -> PathBuf {
         .and_then(|p| p.file_stem())
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "default".into());
-    PathBuf::from(crate::DEFAULT_RUNS_DIR).join(stem)
+    PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem)
 }
 
 /// Loads the data set the flags name, under the shared data policy (see [`DataArgs`]), and
 /// reports what the filters dropped on standard error.
 pub fn load_data(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
-    let (data, rep) = crate::fit::load_data(&args.file_spec())?;
+    let (data, rep) = brdf_experiment::fit::load_data(&args.file_spec())?;
     note!(
         "{}: {} samples kept ({rep})",
         args.data.display(),
@@ -57,20 +57,21 @@ pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
     Ok(Evaluator::new(&layout).rmse(&x, data))
 }
 
-/// The spec a results folder was last run with (`crate::report::stored_spec`): a stored text
-/// that no longer parses is that spec's error; a folder without one is an input error whose
-/// message starts with `what` (the flag or folder the user named) and says what is unknown.
+/// The spec a results folder was last run with (`brdf_analysis::report::stored_spec`): a
+/// stored text that no longer parses is that spec's error; a folder without one is an input
+/// error whose message starts with `what` (the flag or folder the user named) and says what is
+/// unknown.
 pub fn stored_spec(
-    contents: &crate::store::Contents,
+    contents: &brdf_experiment::store::Contents,
     dir: &Path,
     what: &str,
     unknown: &str,
 ) -> Result<Spec> {
-    match crate::report::stored_spec(contents, dir) {
+    match brdf_analysis::report::stored_spec(contents, dir) {
         Ok(spec) => Ok(spec),
-        Err(crate::report::StoredSpecError::Spec(e)) => Err(e.into()),
-        Err(crate::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(format!(
-            "{what}: the header holds no spec text, so {unknown} unknown"
-        ))),
+        Err(brdf_analysis::report::StoredSpecError::Spec(e)) => Err(e.into()),
+        Err(brdf_analysis::report::StoredSpecError::NoSpecText(_)) => Err(super::input_error(
+            format!("{what}: the header holds no spec text, so {unknown} unknown"),
+        )),
     }
 }

@@ -1,13 +1,13 @@
 //! `brdf-sls slurm`: sbatch scripts that run an experiment as a Slurm job array (one shard of
-//! the trial plan per array task, see [`crate::shard`]) and a merge job after it; with
+//! the trial plan per array task, see [`brdf_experiment::shard`]) and a merge job after it; with
 //! `--submit`, submits both and prints their job IDs. Nothing cluster-specific is built in:
 //! partition, time, memory and CPUs come from the flags, everything else from Slurm's defaults.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::shard::{MAX_SHARDS, Shard};
 use anyhow::{Context, Result, anyhow};
+use brdf_experiment::shard::{MAX_SHARDS, Shard};
 
 use super::shared::{default_out, load_spec};
 use super::{bail_input, note, say};
@@ -86,7 +86,7 @@ fn scripts(
     slurm_dir: &Path,
 ) -> Scripts {
     let n = a.shards;
-    let version = crate::PROGRAM_VERSION;
+    let version = brdf_experiment::PROGRAM_VERSION;
     let job = format!("brdf-sls-{name}");
     let logs = slurm_dir.join("logs");
     let resources = resource_lines(a);
@@ -189,7 +189,7 @@ echo "follow: squeue -j $array,$merge    afterwards: sacct -j $array,$merge"
 }
 
 fn write_script(path: &Path, text: &str) -> Result<()> {
-    crate::store::write_atomic(path, text.as_bytes())
+    brdf_experiment::store::write_atomic(path, text.as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
     #[cfg(unix)]
     {

@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::spec::{DataFormat, FileSpec};
 use anyhow::{Context, Result, bail};
+use brdf_experiment::spec::{DataFormat, FileSpec};
 use brdf_graphics::ImageFormat;
 use brdf_graphics::chart::{self, Chart};
 use brdf_stress::{NamedData, StressOptions, StressReport};
@@ -25,7 +25,7 @@ pub fn stress(a: StressArgs) -> Result<()> {
     let out = a
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RUNS_DIR).join("stress"));
+        .unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join("stress"));
     note!(
         "stress test ({}), seed {}, writing to {}",
         if a.quick { "quick" } else { "full" },
@@ -42,14 +42,19 @@ pub fn stress(a: StressArgs) -> Result<()> {
     };
     let report = brdf_stress::run(&options).context("running the stress test")?;
     report
-        .write_to(&out, crate::store::write_atomic)
+        .write_to(&out, brdf_experiment::store::write_atomic)
         .with_context(|| format!("writing the report to {}", out.display()))?;
     let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
-    let machine = crate::machine::MachineInfo::current(report.threads);
-    let page = crate::html::stress_page(&report, &charts, &machine, crate::machine::unix_now())
-        .context("building the stress page")?;
+    let machine = brdf_experiment::machine::MachineInfo::current(report.threads);
+    let page = brdf_analysis::html::stress_page(
+        &report,
+        &charts,
+        &machine,
+        brdf_experiment::machine::unix_now(),
+    )
+    .context("building the stress page")?;
     let html = out.join("stress.html");
-    crate::store::write_atomic(&html, page.as_bytes())
+    brdf_experiment::store::write_atomic(&html, page.as_bytes())
         .with_context(|| format!("writing {}", html.display()))?;
     say!("{}", summary(&report));
     say!(
@@ -92,7 +97,7 @@ fn load_named(path: &Path) -> Result<NamedData> {
         drop_negative: false,
         drop_below_horizon: true,
     };
-    let (data, rep) = crate::instance::load_file(&spec, path)
+    let (data, rep) = brdf_experiment::instance::load_file(&spec, path)
         .with_context(|| format!("reading {}", path.display()))?;
     note!("{}: {} samples ({rep})", path.display(), data.len());
     Ok(NamedData {
@@ -128,7 +133,7 @@ fn draw_plots(report: &StressReport, dir: &Path) -> Result<(Vec<PathBuf>, Vec<Ch
     let formats = [ImageFormat::Png, ImageFormat::Svg];
     let mut files = Vec::new();
     let mut charts = Vec::new();
-    for (stem, c) in crate::stress_charts::charts(report) {
+    for (stem, c) in brdf_analysis::stress_charts::charts(report) {
         files.extend(chart::draw(&c, &dir.join(stem), &formats)?);
         charts.push(c);
     }

@@ -1,8 +1,9 @@
 //! `brdf-sls trial`: one trial of one configuration on one instance with one seed, printing
 //! one number (the cost) on standard output: irace's target-runner convention.
 
-use crate::tune::{CostKind, CostRule, parse_switches, with_values};
 use anyhow::{Context, Result};
+use brdf_experiment::spec::tune::{CostKind, CostRule, with_values};
+use brdf_tune::irace::parse_switches;
 
 use super::shared::load_spec;
 use super::{bail_input, flush_stdout, input_error, say};
@@ -61,7 +62,7 @@ pub fn trial(a: TrialArgs) -> Result<()> {
         .map_err(|e| input_error(format!("configuration {}: {e}", a.config_id)))?;
     let config = with_values(&base.algorithm, &values)
         .map_err(|e| input_error(format!("configuration {}: {e}", a.config_id)))?;
-    let built = crate::instance::build(instance)
+    let built = brdf_experiment::instance::build(instance)
         .with_context(|| format!("building instance `{}`", instance.name))?;
     bounded_lm::set_kernel(spec.kernel)?;
     let objective = sls::BrdfObjective::with_kernel(

@@ -6,11 +6,11 @@ use std::io::{BufRead as _, BufReader, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::spec::Spec;
-use crate::tune::irace::{self, Elite};
-use crate::tune::validation::{elite_label, validation_spec};
-use crate::tune::{MAX_BUDGET, TuneSpec};
 use anyhow::{Context, Result, bail};
+use brdf_experiment::spec::Spec;
+use brdf_experiment::spec::tune::{MAX_BUDGET, TuneSpec};
+use brdf_tune::irace::{self, Elite};
+use brdf_tune::validation::{TuningSource, elite_label, validation_spec};
 
 use super::shared::{default_out, load_spec};
 use super::{bail_input, input_error, note, say};
@@ -18,7 +18,7 @@ use crate::cli::TuneArgs;
 
 /// Writes `text` to `path` atomically, naming the file in errors.
 fn write(path: &Path, text: &str) -> Result<()> {
-    crate::store::write_atomic(path, text.as_bytes())
+    brdf_experiment::store::write_atomic(path, text.as_bytes())
         .with_context(|| format!("writing {}", path.display()))
 }
 
@@ -62,12 +62,6 @@ fn write_irace_files(
     Ok(scenario)
 }
 
-/// irace's lines worth showing without `--verbose`: iteration starts and budget left.
-fn is_progress(line: &str) -> bool {
-    (line.starts_with("# ") && line.contains("Iteration ") && line.contains(" of "))
-        || line.starts_with("# remainingBudget:")
-}
-
 /// Runs irace on `scenario`, keeping its output in `dir`; returns the output.
 fn run_irace(
     cmd: &irace::IraceCommand,
@@ -97,7 +91,7 @@ fn run_irace(
             let line = line.context("reading irace's output")?;
             writeln!(out_file, "{line}")
                 .with_context(|| format!("writing {}", out_path.display()))?;
-            if verbose || is_progress(&line) {
+            if verbose || irace::is_progress(&line) {
                 note!("irace: {line}");
             }
             output.push_str(&line);
@@ -130,7 +124,7 @@ fn elites_csv(tune: &TuneSpec, elites: &[Elite]) -> String {
         s.push_str(&format!(
             "{},{},{}",
             i + 1,
-            crate::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
+            brdf_analysis::stats::csv_field(&elite_label(&tune.algorithm, i + 1)),
             e.id
         ));
         for p in &tune.parameters {
@@ -170,7 +164,7 @@ pub fn tune(a: TuneArgs) -> Result<()> {
         .parallel
         .or(tune.parallel)
         .or(spec.threads)
-        .unwrap_or_else(crate::run::default_threads);
+        .unwrap_or_else(brdf_experiment::run::default_threads);
     if parallel == 0 {
         return Err(input_error("--parallel must be at least 1"));
     }
@@ -222,7 +216,7 @@ pub fn tune(a: TuneArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("reading irace's elites: {e}"))?;
     write(&out.join("elites.csv"), &elites_csv(&tune, &elites))?;
     let name = format!("{}-validation", spec.name);
-    let source = spec.tuning_source(&tune.algorithm).ok_or_else(|| {
+    let source = TuningSource::of(&spec, &tune.algorithm).ok_or_else(|| {
         anyhow::anyhow!(
             "writing the validation spec: no configuration labelled `{}`",
             tune.algorithm

@@ -1,8 +1,9 @@
 //! DA7SST's judgement of a trial step (accept or reject, switch models) and NL2SOL's
 //! convergence and stopping tests after it.
 
-use super::descent::{Descent, Trial};
+use super::descent::Descent;
 use super::subproblem::StopPoll;
+use super::trial::{Assessment, Trial};
 use super::workspace::Workspace;
 use crate::linalg::dot;
 use crate::{Outcome, Problem, Safeguards};
@@ -13,20 +14,6 @@ pub(super) const ACCEPT_RATIO: f64 = 1e-4;
 /// Slack on the bound `||D_F^-1 g_F|| <= sqrt(p rfctol) ||r||` that relative function
 /// convergence implies (see [`Workspace::gradient_permits_rel_conv`]).
 pub(super) const REL_CONV_GRADIENT_SLACK: f64 = 10.0;
-
-/// DA7SST's judgement of a trial step.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Assessment {
-    /// f before the step.
-    pub(super) f0: f64,
-    /// Actual reduction `f0 - f`.
-    pub(super) ared: f64,
-    /// `ared / PREDUC`.
-    pub(super) ratio: f64,
-    pub(super) accepted: bool,
-    /// The other model (adaptive choice) predicted the actual reduction better.
-    pub(super) switch_models: bool,
-}
 
 impl Descent<'_> {
     /// Accept or reject the step (actual against predicted reduction), and whether the other

@@ -2,10 +2,10 @@
 //! the residuals' departure from the linear model at the rejected point gives a correction `c`,
 //! and `v + c` is tried once before the radius shrinks.
 
-use super::assessment::Assessment;
-use super::descent::{Descent, Trial};
+use super::descent::Descent;
 use super::model::SHIFTED_TOL;
 use super::step::StepInfo;
+use super::trial::{Assessment, Trial};
 use super::workspace::Workspace;
 use crate::Problem;
 use crate::linalg::{backward_solve, cholesky_shifted, dot, forward_solve, jt_vec, norm};

@@ -2,10 +2,10 @@
 //! an accepted point (Jacobian, scaling, factorisation, secant update), the trial step and its
 //! evaluation, the saved good step, and acceptance.
 
-use super::assessment::Assessment;
 use super::radius::{RadiusChange, TrustRadius};
 use super::step::StepInfo;
 use super::subproblem::StopPoll;
+use super::trial::{Assessment, Trial};
 use super::workspace::Workspace;
 use crate::linalg::{dot, jt_vec, sym_mat_vec};
 use crate::{
@@ -25,18 +25,6 @@ pub(super) struct Counts {
     pub(super) iterations: usize,
     pub(super) residuals: usize,
     pub(super) jacobians: usize,
-}
-
-/// One trial step, evaluated or restored from the saved good step.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Trial {
-    pub(super) info: StepInfo,
-    /// f at the trial point.
-    pub(super) f: f64,
-    /// RELDX of the step.
-    pub(super) reldx: f64,
-    /// The saved good step was taken instead of the last one computed (NL2SOL's GOODX false).
-    pub(super) restored: bool,
 }
 
 /// What happened to a trial step before it could be assessed.

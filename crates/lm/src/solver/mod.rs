@@ -11,8 +11,8 @@
 //!
 //! Modules: [`workspace`] (the buffers), [`scaling`], [`factorisation`], [`step`] (active set
 //! and the bounded step), [`model`] and [`subproblem`] (the trust-region subproblem),
-//! [`secant`], [`correction`] (second-order correction), [`radius`], [`assessment`] and
-//! [`descent`] (the state between iterations).
+//! [`secant`], [`correction`] (second-order correction), [`radius`], [`assessment`],
+//! [`trial`] (a trial step and its assessment) and [`descent`] (the state between iterations).
 
 mod assessment;
 mod correction;
@@ -24,6 +24,7 @@ mod scaling;
 mod secant;
 mod step;
 mod subproblem;
+mod trial;
 mod workspace;
 
 use crate::linalg::dot;

@@ -267,3 +267,221 @@ impl Subproblem for QuadraticModel<'_> {
         }
     }
 }
+
+#[cfg(test)]
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::shifted_scratch_len;
+    use crate::solver::subproblem::{RADIUS_SLACK, StopPoll, trust_region};
+
+    /// A deterministic upper-triangular `n x n` matrix whose rows from `k` on are zero (what the
+    /// QR of a `k`-row Jacobian gives), and a right-hand side zero from `k` on.
+    pub(super) fn trapezoid(n: usize, k: usize) -> (Vec<f64>, Vec<f64>) {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let mut t = vec![0.0; n * n];
+        for j in 0..n {
+            for a in 0..=j.min(k - 1) {
+                t[j * n + a] = next() + if a == j { 3.0 } else { 0.0 };
+            }
+        }
+        let u = (0..n).map(|a| if a < k { next() } else { 0.0 }).collect();
+        (t, u)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn wide_model<'a>(
+        n: usize,
+        k: usize,
+        t: &'a [f64],
+        u: &'a [f64],
+        gram: &'a mut [f64],
+        chol: &'a mut [f64],
+        w: &'a mut [f64],
+        v: &'a mut [f64],
+    ) -> WideLeastSquaresModel<'a> {
+        WideLeastSquaresModel {
+            n,
+            k,
+            t,
+            u,
+            gram,
+            chol,
+            w,
+            v,
+        }
+        .with_gram()
+    }
+
+    /// Counts the shifted factorizations of the model it wraps.
+    struct Counted<S> {
+        sub: S,
+        shifted: usize,
+    }
+
+    impl<S: Subproblem> Subproblem for Counted<S> {
+        fn n(&self) -> usize {
+            self.sub.n()
+        }
+        fn newton(&mut self, z: &mut [f64]) -> Option<f64> {
+            self.sub.newton(z)
+        }
+        fn shifted(&mut self, lam: f64, z: &mut [f64]) -> bool {
+            self.shifted += 1;
+            self.sub.shifted(lam, z)
+        }
+        fn inverse_norm(&mut self, z: &[f64], q: &mut [f64]) -> f64 {
+            self.sub.inverse_norm(z, q)
+        }
+        fn bracket_data(&self) -> (f64, f64, f64) {
+            self.sub.bracket_data()
+        }
+        fn steepest_descent(&self, z: &mut [f64]) {
+            self.sub.steepest_descent(z)
+        }
+    }
+
+    /// A singular model whose minimum-norm step lies inside the region: with
+    /// `stop_at_min_norm` the iteration returns that step after a few factorizations; without
+    /// it, it runs to its 60-step limit.
+    #[test]
+    pub(super) fn singular_model_stops_at_its_minimum_norm_step() {
+        // 0.5 ||u + T z||^2 with variable 1 dead: the minimum-norm minimiser solves
+        // 2 z0 + z2 = -0.2, 3 z2 = 0.3, z1 = 0, so z = (-0.15, 0, 0.1), of norm 0.18.
+        let n = 3;
+        let t = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0];
+        let u = [0.2, 0.0, -0.3];
+        let want = [-0.15, 0.0, 0.1];
+        let mut counts = vec![];
+        for stop in [true, false] {
+            let (mut t_lambda, mut u_lambda) = (vec![0.0; n * n], vec![0.0; n]);
+            let mut row = vec![0.0; shifted_scratch_len(n)];
+            let mut sub = Counted {
+                sub: LeastSquaresModel {
+                    n,
+                    t: &t,
+                    u: &u,
+                    t_lambda: &mut t_lambda,
+                    u_lambda: &mut u_lambda,
+                    row: &mut row,
+                    scale_tiny: true,
+                },
+                shifted: 0,
+            };
+            let (mut z, mut best, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let mut never = || false;
+            let mut poll = StopPoll::new(&mut never);
+            let scratch = (&mut best[..], &mut q[..]);
+            let tr = trust_region(&mut sub, 1.0, 0.0, stop, &mut poll, &mut z, scratch);
+            assert!(
+                !tr.is_newton && tr.newton_norm < 0.0,
+                "singular: no Newton step"
+            );
+            for (a, b) in z.iter().zip(&want) {
+                assert!((a - b).abs() < 1e-9, "stop {stop}: {z:?}");
+            }
+            counts.push(sub.shifted);
+        }
+        assert!(
+            counts[0] <= 10,
+            "with the stop: {} factorizations",
+            counts[0]
+        );
+        assert_eq!(counts[1], 60, "without it, the 60-step limit");
+    }
+
+    /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.
+    #[test]
+    pub(super) fn wide_model_matches_the_primal_model() {
+        for (n, k) in [(8, 3), (20, 7), (40, 39)] {
+            let (t, u) = trapezoid(n, k);
+            let mut t_lambda = vec![0.0; n * n];
+            let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; shifted_scratch_len(n)]);
+            let mut primal = LeastSquaresModel {
+                n,
+                t: &t,
+                u: &u,
+                t_lambda: &mut t_lambda,
+                u_lambda: &mut u_lambda,
+                row: &mut row,
+                scale_tiny: true,
+            };
+            let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
+            let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            assert_eq!(primal.bracket_data(), wide.bracket_data());
+            assert!(wide.newton(&mut vec![0.0; n]).is_none());
+            for lam in [1e-3, 0.1, 1.0, 30.0, 1e4] {
+                let (mut zp, mut zw, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                assert!(primal.shifted(lam, &mut zp));
+                assert!(wide.shifted(lam, &mut zw));
+                let scale = norm(&zp);
+                for (a, b) in zp.iter().zip(&zw) {
+                    assert!(
+                        (a - b).abs() <= 1e-11 * scale,
+                        "n {n} k {k} lam {lam}: {a} {b}"
+                    );
+                }
+                let np = primal.inverse_norm(&zp, &mut q);
+                let nw = wide.inverse_norm(&zw, &mut q);
+                assert!(
+                    (np - nw).abs() <= 1e-9 * np,
+                    "n {n} k {k} lam {lam}: {np} {nw}"
+                );
+            }
+        }
+    }
+
+    /// The trust-region iteration ends at the same step with either model.
+    #[test]
+    pub(super) fn wide_trust_region_step_matches_the_primal_one() {
+        let (n, k) = (30, 6);
+        let (t, u) = trapezoid(n, k);
+        let mut t_lambda = vec![0.0; n * n];
+        let (mut u_lambda, mut row) = (vec![0.0; n], vec![0.0; shifted_scratch_len(n)]);
+        let (mut gram, mut chol) = (vec![0.0; k * k], vec![0.0; k * k]);
+        let (mut w, mut v) = (vec![0.0; k], vec![0.0; k]);
+        let (mut best, mut q) = (vec![0.0; n], vec![0.0; n]);
+        for radius in [1e-3, 0.05, 0.5] {
+            let mut primal = LeastSquaresModel {
+                n,
+                t: &t,
+                u: &u,
+                t_lambda: &mut t_lambda,
+                u_lambda: &mut u_lambda,
+                row: &mut row,
+                scale_tiny: true,
+            };
+            let mut zp = vec![0.0; n];
+            let mut never = || false;
+            let mut poll = StopPoll::new(&mut never);
+            let scratch = (&mut best[..], &mut q[..]);
+            let rp = trust_region(&mut primal, radius, 0.0, true, &mut poll, &mut zp, scratch);
+            let mut wide = wide_model(n, k, &t, &u, &mut gram, &mut chol, &mut w, &mut v);
+            let mut zw = vec![0.0; n];
+            let scratch = (&mut best[..], &mut q[..]);
+            let rw = trust_region(&mut wide, radius, 0.0, true, &mut poll, &mut zw, scratch);
+            // Within the region; on its boundary unless the minimum-norm Gauss-Newton step (the
+            // limit lambda -> 0 of the singular model) is shorter.
+            assert!(
+                norm(&zw) <= radius * (1.0 + RADIUS_SLACK),
+                "radius {radius}"
+            );
+            assert!(
+                (rp.lambda - rw.lambda).abs() <= 1e-8 * rp.lambda.max(1e-12),
+                "radius {radius}: {} {}",
+                rp.lambda,
+                rw.lambda
+            );
+            for (a, b) in zp.iter().zip(&zw) {
+                assert!((a - b).abs() <= 1e-8 * radius, "radius {radius}: {a} {b}");
+            }
+        }
+    }
+}

@@ -2,8 +2,7 @@
 //! RADFAC after each assessed step, the longer step tried from the same point, and DG7ITB's
 //! gradient tests.
 
-use super::assessment::Assessment;
-use super::descent::Trial;
+use super::trial::{Assessment, Trial};
 use super::workspace::Workspace;
 use crate::RadiusUpdate;
 

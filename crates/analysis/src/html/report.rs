@@ -1,0 +1,151 @@
+//! The report page of one or more results folders: for each, the experiment's description and
+//! plan, provenance, and per instance the statistics tables, the charts and the best fit.
+
+use super::figures::figure;
+use super::{PageError, anchor, document, escape, para, provenance, section, tables};
+use crate::folder::Folder;
+use crate::report::{charts, compute_stats};
+use crate::stats;
+use brdf_experiment::spec::PlotKind;
+
+/// Charts every page shows, whatever the spec draws to files: RTDs in both measures, tuning
+/// sweeps (where the spec sweeps), traces and error-time curves.
+const PAGE_KINDS: [PlotKind; 5] = [
+    PlotKind::Rtd,
+    PlotKind::RtdEvaluations,
+    PlotKind::Sweep,
+    PlotKind::Trace,
+    PlotKind::ErrorTime,
+];
+
+/// The whole report page of `folders` (one section each, in order).
+pub fn report_page(folders: &[Folder]) -> Result<String, PageError> {
+    let names: Vec<String> = folders.iter().map(|f| f.spec.name.clone()).collect();
+    let title = format!("brdf-sls report: {}", names.join(", "));
+    let mut body = format!("<h1>{}</h1>\n", escape(&title));
+    body.push_str(&contents_nav(folders));
+    for (i, f) in folders.iter().enumerate() {
+        body.push_str(&folder_section(f, &format!("r{}", i + 1))?);
+    }
+    body.push_str(&para(
+        "note",
+        &format!("Written by brdf-sls {}.", brdf_experiment::PROGRAM_VERSION),
+    ));
+    Ok(document(&title, &body))
+}
+
+/// Links to each folder's sections.
+fn contents_nav(folders: &[Folder]) -> String {
+    let mut s = String::from("<nav>\n<ul>\n");
+    for (i, f) in folders.iter().enumerate() {
+        let id = format!("r{}", i + 1);
+        s.push_str(&format!(
+            "<li><a href=\"#{id}\">{} ({})</a></li>\n",
+            escape(&f.spec.name),
+            escape(&f.dir.display().to_string())
+        ));
+        for inst in &f.spec.instances {
+            s.push_str(&format!(
+                "<li><a href=\"#{}\">{}: instance {}</a></li>\n",
+                anchor(&[&id, "instance", &inst.name]),
+                escape(&f.spec.name),
+                escape(&inst.name)
+            ));
+        }
+    }
+    s.push_str("</ul>\n</nav>\n");
+    s
+}
+
+fn folder_section(f: &Folder, id: &str) -> Result<String, PageError> {
+    let mut s = String::new();
+    let (present, planned) = f.progress();
+    if present < planned {
+        let text = format!(
+            "Partial results: {present} of {planned} trials present; the statistics and charts \
+below cover those only (run the spec again to resume)."
+        );
+        s.push_str(&para("partial", &text));
+    }
+    for n in f.notes.iter().filter(|n| !n.starts_with("partial results")) {
+        s.push_str(&para("note", &format!("Note: {n}.")));
+    }
+    s.push_str(&experiment(f, id));
+    s.push_str(&section(
+        &format!("{id}-provenance"),
+        3,
+        "Provenance",
+        &(provenance::summary(f) + &provenance::sessions(f)),
+    ));
+    let records = f.records();
+    let report = compute_stats(&f.spec, &records);
+    let groups = stats::group(&records, &f.spec.instance_names(), &f.spec.config_labels());
+    let mut kinds = PAGE_KINDS.to_vec();
+    kinds.extend(f.spec.plots.draw.iter().filter(|k| !PAGE_KINDS.contains(k)));
+    let all_charts = charts(&f.spec, &groups, &kinds);
+    for inst in &f.spec.instances {
+        let mut body = best_known_line(inst);
+        body.push_str("<h4>Success, median and ERT</h4>\n");
+        body.push_str(&tables::success_table(&report, &inst.name));
+        body.push_str("<h4>Pairwise tests (Holm over the pairs of each target and measure)</h4>\n");
+        body.push_str(&tables::tests_table(&report, &inst.name));
+        body.push_str("<h4>Final RMSE</h4>\n");
+        body.push_str(&tables::finals_table(&report, &inst.name));
+        body.push_str("<h4>Charts</h4>\n");
+        for c in all_charts.iter().filter(|c| c.instance == inst.name) {
+            body.push_str(&figure(&c.chart, &anchor(&[id, &c.stem]))?);
+        }
+        body.push_str("<h4>Best fit</h4>\n");
+        body.push_str(&tables::best_fit(inst, &records));
+        s.push_str(&section(
+            &anchor(&[id, "instance", &inst.name]),
+            3,
+            &format!("Instance {}", inst.name),
+            &body,
+        ));
+    }
+    Ok(section(
+        id,
+        2,
+        &format!("{} ({})", f.spec.name, f.dir.display()),
+        &s,
+    ))
+}
+
+/// The description, the plan as `brdf-sls check` prints it, and the spec's text.
+fn experiment(f: &Folder, id: &str) -> String {
+    let mut s = String::new();
+    if let Some(d) = &f.spec.description {
+        s.push_str(&para("", d));
+    }
+    let threads = f.contents.header.machine.threads.max(1);
+    s.push_str(&format!(
+        "<pre class=\"plan\">{}</pre>\n",
+        escape(f.spec.describe(threads).trim_end())
+    ));
+    s.push_str(&format!(
+        "<details>\n<summary>The spec (TOML)</summary>\n<pre class=\"spec\">{}</pre>\n</details>\n",
+        escape(f.spec.text.trim_end())
+    ));
+    section(&format!("{id}-experiment"), 3, "Experiment and plan", &s)
+}
+
+fn best_known_line(inst: &brdf_experiment::spec::InstanceSpec) -> String {
+    match &inst.best_known {
+        Some(b) => para(
+            "",
+            &format!(
+                "Best-known RMSE {} ({} descents from random starts, seed {}); targets {}.",
+                b.rmse,
+                b.starts,
+                b.seed,
+                inst.targets
+                    .iter()
+                    .map(|t| t.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+        None => String::new(),
+    }
+}
