@@ -251,6 +251,7 @@ fn kernel_rows(peak: f64) -> Result<Vec<KernelRow>> {
     let data = synthetic(&params, M, 0.1, 42);
     let layout = Layout::builder(&[LobeKind::Anisotropic]).build()?;
     let x = layout.encode(&params);
+    let data = layout.prepare(&data);
     let mut r = vec![0.0; M];
     let mut jac = vec![0.0; M * layout.dim()];
     Ok(Kernel::available()

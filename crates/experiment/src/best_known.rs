@@ -6,8 +6,9 @@
 //! Full-data bounded Levenberg-Marquardt descents with PORT's limits (150 iterations, 200
 //! evaluations), each repeated from its own result until it improves the RMSE by less than
 //! 1e-12 relative or [`POLISH_ROUNDS`] descents were made:
-//! - for a synthetic instance, one from the generating parameters (the truth, projected into
-//!   the model's box: lobes beyond the model's count are dropped);
+//! - for a synthetic instance whose model is of the generating parameters' family, one from
+//!   the generating parameters (the truth, projected into the model's box: lobes beyond the
+//!   model's count are dropped);
 //! - [`STARTS`] from random picks drawn from the fixed seed [`SEED`], with exponents
 //!   log-uniform in n whatever the instance's own start distribution: the best-known RMSE is a
 //!   property of the data and the model, not of the search setting, and uniform draws of n in
@@ -64,11 +65,15 @@ pub fn compute(spec: &InstanceSpec, built: &BuiltInstance) -> Result<BestKnown, 
 
 /// [`compute`] with at most `max_nested` nested layouts (0: random starts and truth only).
 fn compute_nested(spec: &InstanceSpec, built: &BuiltInstance, max_nested: usize) -> BestKnown {
+    // The generating parameters start a descent only when the model is of their family
+    // (another family's fields mean something else).
     let truth = match &spec.source {
-        Source::Synthetic { params, .. } => Some(params.clone()),
-        Source::File { .. } => None,
+        Source::Synthetic { params, .. } if *params.family() == spec.model.family => {
+            Some(params.clone())
+        }
+        Source::Synthetic { .. } | Source::File { .. } => None,
     };
-    let mut nested = nested::Nested::new(built.data.clone(), max_nested);
+    let mut nested = nested::Nested::new(built.data.clone(), built.samples.clone(), max_nested);
     let found = nested.optimum(&spec.model, &built.layout, truth.as_ref());
     BestKnown {
         rmse: found.rmse,

@@ -13,11 +13,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use brdf_model::{
-    BrdfParams, DataSet, Evaluator, ExponentCoord, FilterReport, Kernel, Layout, LobeKind,
+    DataSet, Evaluator, ExponentCoord, FamilyRef, FilterReport, Kernel, Layout, LobeKind, Params,
 };
 use sls::{AlgorithmConfig, Objective, Search, StopReason, TrialContext, TrialResult};
 
-use crate::spec::{DataFormat, FileSpec, ModelSpec};
+use crate::spec::{FileSpec, ModelSpec};
 
 pub use watch::FitProgress;
 
@@ -134,17 +134,18 @@ pub struct FitOutcome {
     /// The fitted point in the optimiser's coordinates (the search's best, polished).
     pub x: Vec<f64>,
     /// The fitted parameters (fixed ones included).
-    pub params: BrdfParams,
+    pub params: Params,
     /// The RMSE of the fitted parameters on the whole data set, recomputed in full.
     pub rmse: f64,
     /// The polish, when it was asked for.
     pub polish: Option<Polish>,
 }
 
-/// The model `--lobes`, `--kind`, `--fix` and `--exponent` describe, checked against the
-/// lobe limit.
+/// The model `--family`, `--lobes`, `--kind`, `--fix` and `--exponent` describe, checked
+/// against the lobe limit (the family's lobe kinds are checked when its layout is built).
 pub fn model_spec(
     surface: Surface,
+    family: FamilyRef,
     lobes: usize,
     kind: LobeKind,
     exponent: ExponentCoord,
@@ -157,7 +158,7 @@ pub fn model_spec(
             surface.arg("lobes", lobes)
         )));
     }
-    let mut spec = ModelSpec::simple(lobes, kind);
+    let mut spec = ModelSpec::of_family(family, lobes, kind);
     spec.exponent = exponent;
     for (name, value) in fixed {
         if let Some(first) = spec.fixed.insert(name.clone(), value) {
@@ -243,7 +244,7 @@ pub fn fit(
     };
     let kernel = objective.kernel();
     let mut ev = Evaluator::with_kernel(&layout, kernel).map_err(|e| input(e.to_string()))?;
-    let rmse = ev.rmse(&x, &data);
+    let rmse = ev.rmse(&x, objective.samples());
     Ok(FitOutcome {
         params: layout.decode(&x),
         x,
@@ -350,28 +351,18 @@ fn one_evaluation_seconds(objective: &sls::BrdfObjective) -> f64 {
     started.elapsed().as_secs_f64()
 }
 
-/// Reads the data file `fs` names under the shared data policy, with the command line's
-/// checks: a format it can tell (from `format` or the extension) and a positive wavelength.
-/// Errors name the file; a read error is `reading PATH: what the reader said`.
+/// Reads the data file `fs` names under the shared data policy, with its format decided and
+/// checked in the one place ([`FileSpec::format_for`]). Errors name the file; a read error is
+/// `reading PATH: what the reader said`.
 pub fn load_data(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
     let path: &Path = &fs.path;
-    if fs.format.is_none() && DataFormat::from_path(path).is_none() {
-        return Err(input(format!(
-            "{}: cannot tell the format from the extension; pass --format cornell|csv|merl",
-            path.display()
-        )));
-    }
+    fs.format_for(path)
+        .map_err(|e| input(format!("{}: {e}", path.display())))?;
     if let Some(v) = fs.max_value
         && !v.is_finite()
     {
         return Err(input(format!(
             "--max-value {v}: expected a finite number (values above it are dropped)"
-        )));
-    }
-    let wavelength = fs.wavelength.unwrap_or(brdf_model::DEFAULT_WAVELENGTH_NM);
-    if !(wavelength.is_finite() && wavelength > 0.0) {
-        return Err(input(format!(
-            "--wavelength {wavelength}: expected a positive number of nm"
         )));
     }
     // Every data error begins with the file's path.
@@ -398,6 +389,7 @@ mod tests {
         FitRequest {
             model: model_spec(
                 Surface::Cli,
+                FamilyRef::lafortune(),
                 1,
                 LobeKind::Anisotropic,
                 ExponentCoord::Log1p,
@@ -452,7 +444,14 @@ mod tests {
                 .to_string()
                 .starts_with("--algorithm/--set: unknown field `phix`")
         );
-        let e = model_spec(Surface::Cli, 0, LobeKind::Isotropic, ExponentCoord::Raw, []);
+        let e = model_spec(
+            Surface::Cli,
+            FamilyRef::lafortune(),
+            0,
+            LobeKind::Isotropic,
+            ExponentCoord::Raw,
+            [],
+        );
         assert_eq!(e.unwrap_err().to_string(), "--lobes 0: expected 1 to 64");
         assert_eq!(
             check_budget(Surface::Cli, 0.0, 0.0)
@@ -471,6 +470,7 @@ mod tests {
         let twice = [("kd".to_string(), 0.1), ("kd".to_string(), 0.2)];
         let e = model_spec(
             Surface::Cli,
+            FamilyRef::lafortune(),
             1,
             LobeKind::Isotropic,
             ExponentCoord::Raw,
@@ -486,6 +486,7 @@ mod tests {
             format: None,
             wavelength: None,
             channel: None,
+            param_out: None,
             max_value: Some(f64::NAN),
             drop_negative: false,
             drop_below_horizon: true,
@@ -507,6 +508,7 @@ mod tests {
         let mut r = request(1);
         r.model = model_spec(
             Surface::Cli,
+            FamilyRef::lafortune(),
             2,
             LobeKind::Anisotropic,
             ExponentCoord::Log1p,
@@ -556,6 +558,7 @@ mod tests {
         r.cpu_seconds = 1e-9;
         r.model = model_spec(
             Surface::Cli,
+            FamilyRef::lafortune(),
             64,
             LobeKind::Anisotropic,
             ExponentCoord::Log1p,
@@ -579,6 +582,7 @@ mod tests {
             format: None,
             wavelength: None,
             channel: None,
+            param_out: None,
             max_value: None,
             drop_negative: false,
             drop_below_horizon: true,
@@ -598,7 +602,14 @@ mod tests {
                 .to_string()
                 .starts_with("algorithm/settings: unknown field `phix`")
         );
-        let e = model_spec(py, 0, LobeKind::Isotropic, ExponentCoord::Raw, []);
+        let e = model_spec(
+            py,
+            FamilyRef::lafortune(),
+            0,
+            LobeKind::Isotropic,
+            ExponentCoord::Raw,
+            [],
+        );
         assert_eq!(e.unwrap_err().to_string(), "lobes=0: expected 1 to 64");
         assert_eq!(
             check_budget(py, 0.0, 0.0).unwrap_err().to_string(),

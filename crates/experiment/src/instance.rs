@@ -4,9 +4,9 @@ use std::cell::Cell;
 use std::path::Path;
 use std::sync::Arc;
 
-use brdf_model::{DataError, DataSet, FilterReport, Layout, ModelError};
+use brdf_model::{DataError, DataSet, FilterReport, Layout, ModelError, Samples};
 
-use crate::spec::{DataFormat, FileSpec, InstanceSpec, Source};
+use crate::spec::{FileSpec, InstanceSpec, Source};
 
 /// Errors building an instance.
 #[derive(Debug, thiserror::Error)]
@@ -17,7 +17,7 @@ pub enum InstanceError {
         /// Instance name.
         instance: String,
         /// The reader's error (names file and line).
-        source: DataError,
+        source: Box<DataError>,
     },
     /// The model layout is invalid.
     #[error("instance `{instance}`: model: {source}")]
@@ -48,37 +48,28 @@ pub enum InstanceError {
     },
 }
 
-/// An instance ready to run: shared read-only data and the layout to fit.
+/// An instance ready to run: shared read-only data, the family's samples of it and the
+/// layout to fit.
 #[derive(Clone, Debug)]
 pub struct BuiltInstance {
     /// The data (shared by every trial of the instance).
     pub data: Arc<DataSet>,
+    /// The model family's per-sample columns of the data, prepared once (shared likewise).
+    pub samples: Arc<Samples>,
     /// The parameter layout.
     pub layout: Layout,
     /// What the reader's filters dropped (files only).
     pub filter_report: Option<FilterReport>,
 }
 
-/// Reads a data file with the spec's reader options and filters.
+/// Reads a data file with the spec's format ([`FileSpec::format_for`]: from the extension
+/// unless named; never a guess) and filters.
 pub fn load_file(spec: &FileSpec, path: &Path) -> Result<(DataSet, FilterReport), DataError> {
-    let format = spec
-        .format
-        .or_else(|| DataFormat::from_path(path))
-        .unwrap_or(DataFormat::Csv);
-    let filters = spec.filters();
-    match format {
-        DataFormat::Cornell => brdf_model::read_cornell(
-            path,
-            spec.wavelength.unwrap_or(brdf_model::DEFAULT_WAVELENGTH_NM),
-            &filters,
-        ),
-        DataFormat::Csv => brdf_model::read_csv(path, &filters),
-        DataFormat::Merl => brdf_model::read_merl(
-            path,
-            spec.channel.unwrap_or(brdf_model::Channel::Green),
-            &filters,
-        ),
-    }
+    let format = spec.format_for(path).map_err(|message| DataError::Binary {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    brdf_model::io::read(path, &format, &spec.filters())
 }
 
 thread_local! {
@@ -121,9 +112,9 @@ pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
             (d, None)
         }
         Source::File { spec: fs, resolved } => {
-            let (d, r) = load_file(fs, resolved).map_err(|source| InstanceError::Data {
+            let (d, r) = load_file(fs, resolved).map_err(|e| InstanceError::Data {
                 instance: spec.name.clone(),
-                source,
+                source: Box::new(e),
             })?;
             (d, Some(r))
         }
@@ -135,6 +126,7 @@ pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
         });
     }
     Ok(BuiltInstance {
+        samples: Arc::new(layout.prepare(&data)),
         data: Arc::new(data),
         layout,
         filter_report,

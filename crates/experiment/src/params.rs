@@ -7,13 +7,16 @@
 //! - `@FILE`: a file holding such JSON;
 //! - a TOML table `{ kd = 0.15, lobes = [{ cx = -1, cy = 0.8, cz = 0.96, n = 20, pan_deg = 45 }] }`.
 //!
-//! Every result is checked against the model's box ([`BrdfParams::validate`]). Errors start
+//! The JSON and TOML forms name their model family with a `family` key (`"ggx"`, ...; left out
+//! for Lafortune, the default, and for the paper names, which are Lafortune's): see
+//! [`brdf_model::Params`]. Every result is checked against its family's box
+//! ([`Params::validate`]). Errors start
 //! with the origin the caller names (`--params`, "instance `t`: `synthetic.params`", ...), so
 //! they say where the text came from.
 
 use std::io::Read;
 
-use brdf_model::BrdfParams;
+use brdf_model::Params;
 
 /// Largest parameter file read (`@FILE`): a parameter set is a few hundred bytes.
 pub const MAX_PARAMS_FILE_BYTES: u64 = 1 << 20;
@@ -23,7 +26,8 @@ const JSON_EXAMPLE: &str =
     r#"{"kd":0.15,"lobes":[{"cx":-1,"cy":0.8,"cz":0.96,"n":20,"pan_deg":45}]}"#;
 
 /// The shape a TOML table must have, shown when it does not.
-const TABLE_SHAPE: &str = "{ kd, lobes = [{ cx, cy, cz, n, pan_deg }] }";
+const TABLE_SHAPE: &str =
+    "{ kd, lobes = [{ cx, cy, cz, n, pan_deg }] } or { family = \"ggx\", kd, lobes = [...] }";
 
 /// Parameters as given, before reading.
 #[derive(Clone, Copy, Debug)]
@@ -39,8 +43,8 @@ pub enum ParamsInput<'a> {
 pub struct GivenParams {
     /// The paper name, when given by name.
     pub name: Option<String>,
-    /// The parameters, inside the model's box.
-    pub params: BrdfParams,
+    /// The parameters, inside their family's box.
+    pub params: Params,
 }
 
 /// Why parameters could not be read: `origin` (where they came from) and what is wrong.
@@ -78,16 +82,16 @@ fn from_text(s: &str) -> Result<GivenParams, String> {
     if let Some(p) = brdf_model::named_params(s) {
         return Ok(GivenParams {
             name: Some(s.to_string()),
-            params: p,
+            params: p.into(),
         });
     }
     let params = if let Some(file) = s.strip_prefix('@') {
         let text = read_small_file(file)?;
-        serde_json::from_str::<BrdfParams>(text.trim()).map_err(|e| {
+        serde_json::from_str::<Params>(text.trim()).map_err(|e| {
             format!("{file}: not JSON parameters as printed by `brdf-sls fit` ({e})")
         })?
     } else {
-        serde_json::from_str::<BrdfParams>(s).map_err(|e| {
+        serde_json::from_str::<Params>(s).map_err(|e| {
             format!(
                 "`{s}`: not a known name ({}) nor JSON parameters such as {JSON_EXAMPLE} ({e})",
                 brdf_model::NAMED_PARAMS.join(", ")
@@ -103,7 +107,7 @@ fn from_toml(v: &toml::Value) -> Result<GivenParams, String> {
         toml::Value::String(n) => match brdf_model::named_params(n) {
             Some(params) => Ok(GivenParams {
                 name: Some(n.clone()),
-                params,
+                params: params.into(),
             }),
             None => Err(format!(
                 "unknown name `{n}` (expected one of {})",
@@ -111,7 +115,7 @@ fn from_toml(v: &toml::Value) -> Result<GivenParams, String> {
             )),
         },
         toml::Value::Table(_) => {
-            let params: BrdfParams = v.clone().try_into().map_err(|e: toml::de::Error| {
+            let params: Params = v.clone().try_into().map_err(|e: toml::de::Error| {
                 format!("{} (expected {TABLE_SHAPE})", e.message())
             })?;
             Ok(GivenParams { name: None, params })
@@ -160,7 +164,7 @@ mod tests {
 
     #[test]
     fn every_form_reads_the_same_parameters() {
-        let named = brdf_model::named_params("tuning").unwrap();
+        let named = Params::from(brdf_model::named_params("tuning").unwrap());
         let by_name = text(" tuning ").unwrap();
         assert_eq!(by_name.name.as_deref(), Some("tuning"));
         assert_eq!(by_name.params, named);

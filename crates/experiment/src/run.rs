@@ -90,8 +90,13 @@ impl SlsExecutor {
             .iter()
             .zip(&spec.instances)
             .map(|(b, i)| {
-                BrdfObjective::with_kernel(b.data.clone(), b.layout.clone(), kernel)
-                    .map(|o| o.with_starts(i.model.starts))
+                BrdfObjective::with_samples_and_kernel(
+                    b.data.clone(),
+                    b.samples.clone(),
+                    b.layout.clone(),
+                    kernel,
+                )
+                .map(|o| o.with_starts(i.model.starts))
             })
             .collect::<Result<_, _>>()?;
         let provenance = Provenance {

@@ -290,6 +290,23 @@ impl Layout {
         })
     }
 
+    /// A layout that evaluates `p` as given: as many lobes, each of the family's fullest kind
+    /// (anisotropic where the family has it, so every lobe field is its own parameter), all
+    /// free. Encoding `p` with it and evaluating gives `p`'s model (values outside the default
+    /// bounds are not clamped by [`Layout::encode`]).
+    ///
+    /// # Errors
+    /// [`ModelError::TooManyLobes`] beyond [`MAX_LOBES`] lobes.
+    pub fn of_params(p: &Params) -> Result<Layout, ModelError> {
+        let family = p.family();
+        let kind = if family.kinds().contains(&LobeKind::Anisotropic) {
+            LobeKind::Anisotropic
+        } else {
+            family.kinds()[0]
+        };
+        Self::builder_for(family, &vec![kind; p.lobe_count()])?.build()
+    }
+
     /// The model family.
     pub fn family(&self) -> &FamilyRef {
         &self.family

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use brdf_experiment::spec::{DataFormat, FileSpec};
+use brdf_experiment::spec::{FileSpec, FormatName};
 use brdf_model::{Channel, DataSet, MAX_SAMPLES};
 use numpy::ndarray::{Array2, ArrayView1};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
@@ -111,19 +111,23 @@ pub fn dataset_from_arrays(
 impl PyDataSet {
     /// Reads a data file as `brdf-sls fit/eval/info` do (same filters, same errors).
     ///
-    /// format: "cornell", "csv" or "merl" (default: from the extension); wavelength: Cornell
-    /// nm; channel: MERL "red", "green" or "blue"; max_value: drop values above it (the paper
+    /// format: "cornell", "csv", "merl" or "alta" (default: from the extension; an unknown
+    /// extension is an error); wavelength: Cornell nm (default 550; Cornell files only);
+    /// channel: "red", "green" (default) or "blue" (MERL and ALTA RGB files only); param_out:
+    /// what an ALTA file's values are when its header lacks #PARAM_OUT ("INV_STERADIAN",
+    /// "INV_STERADIAN_COSINE_FACTOR", "RGB_COLOR"); max_value: drop values above it (the paper
     /// used 1); drop_negative: drop negative values; keep_below_horizon: keep samples below
     /// the horizon. Raises InputError naming the file and line on bad data.
     #[staticmethod]
-    #[pyo3(signature = (path, *, format=None, wavelength=550.0, channel="green", max_value=None, drop_negative=false, keep_below_horizon=false))]
+    #[pyo3(signature = (path, *, format=None, wavelength=None, channel=None, param_out=None, max_value=None, drop_negative=false, keep_below_horizon=false))]
     #[allow(clippy::too_many_arguments)]
     fn read(
         py: Python<'_>,
         path: PathBuf,
         format: Option<&str>,
-        wavelength: f64,
-        channel: &str,
+        wavelength: Option<f64>,
+        channel: Option<&str>,
+        param_out: Option<&str>,
         max_value: Option<f64>,
         drop_negative: bool,
         keep_below_horizon: bool,
@@ -131,10 +135,15 @@ impl PyDataSet {
         let fs = FileSpec {
             path,
             format: format
-                .map(|f| enum_value::<DataFormat>("format", f))
+                .map(|f| f.parse::<FormatName>().map_err(|e| input_err(format!("format: {e}"))))
                 .transpose()?,
-            wavelength: Some(wavelength),
-            channel: Some(enum_value::<Channel>("channel", channel)?),
+            wavelength,
+            channel: channel
+                .map(|c| enum_value::<Channel>("channel", c))
+                .transpose()?,
+            param_out: param_out
+                .map(|o| enum_value::<brdf_model::io::AltaOutput>("param_out", o))
+                .transpose()?,
             max_value,
             drop_negative,
             drop_below_horizon: !keep_below_horizon,

@@ -5,14 +5,14 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use brdf_experiment::fit::{FitError, FitOutcome, FitRequest, Surface};
-use brdf_model::{ExponentCoord, Kernel, LobeKind};
+use brdf_model::Kernel;
 use numpy::PyArray1;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::data::PyDataSet;
-use crate::support::{enum_value, input_err, interruptible, run_err, settings, to_python};
+use crate::support::{input_err, interruptible, run_err, settings, to_python};
 
 /// Fits `data` with one algorithm, as `brdf-sls fit DATA --algorithm ALGORITHM --set K=V ...`.
 ///
@@ -35,14 +35,15 @@ use crate::support::{enum_value, input_err, interruptible, run_err, settings, to
 ///
 /// Releases the GIL while fitting; Ctrl-C stops the fit and raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (data, algorithm="aed", *, lobes=1, kind="anisotropic", exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", polish=true, **config))]
+#[pyo3(signature = (data, algorithm="aed", *, family="lafortune", lobes=1, kind=None, exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", polish=true, **config))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
     data: &Bound<'_, PyAny>,
     algorithm: &str,
+    family: &str,
     lobes: usize,
-    kind: &str,
+    kind: Option<&str>,
     exponent: &str,
     fixed: Option<BTreeMap<String, f64>>,
     target: f64,
@@ -58,14 +59,7 @@ pub fn fit(
     let algorithm =
         brdf_experiment::fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
             .map_err(input_err)?;
-    let model = brdf_experiment::fit::model_spec(
-        Surface::Python,
-        lobes,
-        enum_value::<LobeKind>("kind", kind)?,
-        enum_value::<ExponentCoord>("exponent", exponent)?,
-        fixed.unwrap_or_default(),
-    )
-    .map_err(input_err)?;
+    let model = crate::support::model_spec(family, lobes, kind, exponent, fixed)?;
     let kernel: Kernel = kernel.parse().map_err(input_err)?;
     let descent: sls::DescentModel = descent.parse().map_err(input_err)?;
     let data = data_arg(py, data)?;
@@ -111,15 +105,7 @@ fn data_arg(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Arc<brdf_model:
     let path: std::path::PathBuf = data
         .extract()
         .map_err(|_| input_err("data: expected a DataSet or the path of a data file"))?;
-    let fs = brdf_experiment::spec::FileSpec {
-        path,
-        format: None,
-        wavelength: None,
-        channel: None,
-        max_value: None,
-        drop_negative: false,
-        drop_below_horizon: true,
-    };
+    let fs = brdf_experiment::spec::FileSpec::plain(path);
     let (d, _) = py
         .detach(|| brdf_experiment::fit::load_non_empty(&fs))
         .map_err(input_err)?;

@@ -38,6 +38,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(model::rmse, m)?)?;
     m.add_function(wrap_pyfunction!(model::named_params, m)?)?;
+    m.add_function(wrap_pyfunction!(model::families, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::read_results, m)?)?;

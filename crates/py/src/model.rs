@@ -4,14 +4,14 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 
-use brdf_model::{DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind};
+use brdf_model::{DataSet, Evaluator, Kernel, Layout};
 use numpy::ndarray::{Array2, ArrayView1, ShapeBuilder};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::data::{PyDataSet, dataset_from_arrays};
-use crate::support::{enum_value, input_err, parse_params, to_python};
+use crate::support::{input_err, parse_params, to_python};
 
 /// The parameters of a paper name ("tuning", "cross", ...) as a dict.
 #[pyfunction]
@@ -25,23 +25,49 @@ pub fn named_params(py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
     to_python(py, &p)
 }
 
-/// The RMSE of `params` on `data`, exactly as `brdf-sls eval` computes it (a layout of as many
-/// anisotropic lobes as `params` has, the fastest kernel).
+/// The model families known by name, in the order `brdf-sls` lists them: one dict each with
+/// `name`, `summary`, `kinds` (the lobe kinds it has), `shared` and `lobe` (its field names).
+#[pyfunction]
+pub fn families(py: Python<'_>) -> PyResult<Py<PyAny>> {
+    let list: Vec<BTreeMap<&str, serde_json::Value>> = brdf_model::family_names()
+        .into_iter()
+        .filter_map(|n| brdf_model::family(n).ok())
+        .map(|f| {
+            let names = |fs: &[brdf_model::FieldDef]| -> Vec<&str> {
+                fs.iter().map(|d| d.name).collect()
+            };
+            BTreeMap::from([
+                ("name", serde_json::json!(f.name())),
+                ("summary", serde_json::json!(f.summary())),
+                (
+                    "kinds",
+                    serde_json::json!(f.kinds().iter().map(|k| k.name()).collect::<Vec<_>>()),
+                ),
+                ("shared", serde_json::json!(names(f.shared_fields()))),
+                ("lobe", serde_json::json!(names(f.lobe_fields()))),
+            ])
+        })
+        .collect();
+    to_python(py, &list)
+}
+
+/// The RMSE of `params` (of any family) on `data`, exactly as `brdf-sls eval` computes it (a
+/// layout of as many lobes as `params` has, each of the family's fullest kind; the fastest
+/// kernel).
 #[pyfunction]
 pub fn rmse(py: Python<'_>, params: &Bound<'_, PyAny>, data: &PyDataSet) -> PyResult<f64> {
     let params = parse_params(params)?;
     if data.data.is_empty() {
         return Err(input_err("data: no samples"));
     }
-    let kinds = vec![LobeKind::Anisotropic; params.lobes.len()];
-    let layout = Layout::builder(&kinds).build().map_err(input_err)?;
+    let layout = Layout::of_params(&params).map_err(input_err)?;
     let x = layout.encode(&params);
     let d = data.data.clone();
-    Ok(py.detach(move || Evaluator::new(&layout).rmse(&x, &d)))
+    Ok(py.detach(move || Evaluator::new(&layout).rmse(&x, &layout.prepare(&d))))
 }
 
-/// The Lafortune model with a parameter layout, as `brdf-sls fit` builds it from `--lobes`,
-/// `--kind`, `--exponent` and `--fix`.
+/// A model family with a parameter layout, as `brdf-sls fit` builds it from `--family`,
+/// `--lobes`, `--kind`, `--exponent` and `--fix`.
 ///
 /// Methods take either physical parameters (a name, dict or JSON: see `encode`) or `x`, the
 /// free parameters in the optimiser's coordinates (a 1-D array of length `dim`, read without
@@ -101,26 +127,22 @@ impl Point<'_> {
 
 #[pymethods]
 impl PyModel {
-    /// lobes: 1 to 64; kind: "anisotropic" or "isotropic"; exponent: "log1p" (default) or
-    /// "raw"; fixed: {"lobe1.pan": 45.0, ...} held fixed; kernel: "auto", "avx512", "avx2",
-    /// "portable" or "scalar".
+    /// family: "lafortune" (default), "ggx", "cook-torrance", ... (brdf_sls.families());
+    /// lobes: 1 to 64; kind: "anisotropic" or "isotropic" (default: anisotropic where the
+    /// family has it); exponent: "log1p" (default: the family's log coordinate of its shape
+    /// parameters) or "raw"; fixed: {"lobe1.pan": 45.0, ...} held fixed; kernel: "auto",
+    /// "avx512", "avx2", "portable" or "scalar".
     #[new]
-    #[pyo3(signature = (lobes=1, kind="anisotropic", exponent="log1p", fixed=None, kernel="auto"))]
+    #[pyo3(signature = (lobes=1, kind=None, exponent="log1p", fixed=None, kernel="auto", *, family="lafortune"))]
     fn new(
         lobes: usize,
-        kind: &str,
+        kind: Option<&str>,
         exponent: &str,
         fixed: Option<BTreeMap<String, f64>>,
         kernel: &str,
+        family: &str,
     ) -> PyResult<Self> {
-        let spec = brdf_experiment::fit::model_spec(
-            brdf_experiment::fit::Surface::Python,
-            lobes,
-            enum_value::<LobeKind>("kind", kind)?,
-            enum_value::<ExponentCoord>("exponent", exponent)?,
-            fixed.unwrap_or_default(),
-        )
-        .map_err(input_err)?;
+        let spec = crate::support::model_spec(family, lobes, kind, exponent, fixed)?;
         let layout = spec.layout().map_err(input_err)?;
         let kernel: Kernel = kernel.parse().map_err(input_err)?;
         let kernel = kernel.resolve().map_err(input_err)?;
@@ -203,7 +225,8 @@ impl PyModel {
         let x = x.slice();
         let mut ev = self.evaluator()?;
         let d = &data.data;
-        Ok(py.detach(|| ev.rmse(&x, d)))
+        let layout = &self.layout;
+        Ok(py.detach(|| ev.rmse(&x, &layout.prepare(d))))
     }
 
     /// The Jacobian of the residuals, shape (n, dim): column j is d r / d x_j in the
@@ -220,18 +243,26 @@ impl PyModel {
         let (m, p) = (data.data.len(), self.layout.dim());
         let mut ev = self.evaluator()?;
         let d = &data.data;
+        let layout = &self.layout;
         let jac = py.detach(|| {
             let mut jac = vec![0.0; m * p];
-            ev.jacobian(&x, d, &mut jac);
+            ev.jacobian(&x, &layout.prepare(d), &mut jac);
             jac
         });
         let a = Array2::from_shape_vec((m, p).f(), jac).map_err(input_err)?;
         Ok(PyArray2::from_owned_array(py, a))
     }
 
+    /// The model family's name.
+    #[getter]
+    fn family(&self) -> &'static str {
+        self.layout.family().name()
+    }
+
     fn __repr__(&self) -> String {
         format!(
-            "Model({} lobe(s), free parameters {:?}, kernel {})",
+            "Model({}, {} lobe(s), free parameters {:?}, kernel {})",
+            self.layout.family().name(),
             self.layout.lobe_count(),
             self.layout.free_names(),
             self.kernel
@@ -249,10 +280,11 @@ impl PyModel {
         let x = self.point(x)?;
         let x = x.slice();
         let mut ev = self.evaluator()?;
+        let layout = &self.layout;
         let r = py.detach(|| {
             let mut r = vec![0.0; data.len()];
             // Overflow near n = 10000 gives +inf values, which the caller sees as such.
-            ev.residuals(&x, data, &mut r);
+            ev.residuals(&x, &layout.prepare(data), &mut r);
             r
         });
         Ok(PyArray1::from_vec(py, r))

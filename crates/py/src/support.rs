@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use brdf_model::BrdfParams;
+use brdf_model::Params;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyBaseException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -137,10 +137,12 @@ pub fn to_python<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<
 }
 
 /// Parameters from Python: a paper name ("tuning", "cross", "paper-bluepaint",
-/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}`, its
+/// "pbrt-bluepaint"), a dict `{"kd": .., "lobes": [{"cx", "cy", "cz", "n", "pan_deg"}]}` (another
+/// family: `{"family": "ggx", "kd": .., "lobes": [{"ks", "ax", "ay", "f0", "pan"}]}`), its
 /// JSON text (the `json:` line of `brdf-sls fit`) or `"@FILE"` holding that JSON; read by
-/// `brdf_experiment::params` (what `--params` and specs use) and checked against the model's box.
-pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<BrdfParams> {
+/// `brdf_experiment::params` (what `--params` and specs use) and checked against its family's
+/// box.
+pub fn parse_params(p: &Bound<'_, PyAny>) -> PyResult<Params> {
     let text: String = if p.is_instance_of::<PyString>() {
         p.extract()?
     } else if p.is_instance_of::<PyDict>() {
@@ -181,4 +183,33 @@ pub fn enum_value<T: serde::de::DeserializeOwned>(keyword: &str, s: &str) -> PyR
     toml::Value::String(s.trim().to_string())
         .try_into()
         .map_err(|e: toml::de::Error| input_err(format!("{keyword}={s}: {}", e.message())))
+}
+
+/// The model `fit` and `Model` take: `family` (a registered family's name), `lobes`, `kind`
+/// (`None`: anisotropic where the family has it), `exponent` and `fixed`, checked as
+/// `brdf-sls fit` checks `--family`, `--lobes`, `--kind`, `--exponent` and `--fix`.
+pub fn model_spec(
+    family: &str,
+    lobes: usize,
+    kind: Option<&str>,
+    exponent: &str,
+    fixed: Option<std::collections::BTreeMap<String, f64>>,
+) -> PyResult<brdf_experiment::spec::ModelSpec> {
+    let family = brdf_model::family(family).map_err(|e| input_err(format!("family: {e}")))?;
+    let kind = match kind {
+        Some(k) => enum_value::<brdf_model::LobeKind>("kind", k)?,
+        None if family.kinds().contains(&brdf_model::LobeKind::Anisotropic) => {
+            brdf_model::LobeKind::Anisotropic
+        }
+        None => family.kinds()[0],
+    };
+    brdf_experiment::fit::model_spec(
+        brdf_experiment::fit::Surface::Python,
+        family,
+        lobes,
+        kind,
+        enum_value::<brdf_model::ExponentCoord>("exponent", exponent)?,
+        fixed.unwrap_or_default(),
+    )
+    .map_err(input_err)
 }

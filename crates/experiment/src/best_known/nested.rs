@@ -12,7 +12,7 @@
 
 use std::sync::Arc;
 
-use brdf_model::{BrdfParams, DataSet, Layout, LobeKind};
+use brdf_model::{DataSet, Layout, LobeKind, Params, Samples};
 use sls::{Budget, Search, TrialContext};
 
 use super::{SEED, STARTS, polish, polish_counting};
@@ -24,7 +24,7 @@ pub(super) struct Found {
     /// The lowest full-data RMSE.
     pub rmse: f64,
     /// The parameters reaching it.
-    pub params: BrdfParams,
+    pub params: Params,
     /// The RMSE reached from the generating parameters, when given.
     pub from_truth: Option<f64>,
     /// The start that led to it.
@@ -36,15 +36,18 @@ pub(super) struct Found {
 /// Fits layouts and their nested layouts, each at most once, at most `left` nested ones.
 pub(super) struct Nested {
     data: Arc<DataSet>,
+    samples: Arc<Samples>,
     left: usize,
     memo: Vec<(Vec<LobeKind>, Found)>,
 }
 
 impl Nested {
-    /// Fits on `data`, with at most `max_nested` nested layouts in all.
-    pub fn new(data: Arc<DataSet>, max_nested: usize) -> Self {
+    /// Fits on `data` (whose samples for the model's family are `samples`: nested layouts
+    /// share the family), with at most `max_nested` nested layouts in all.
+    pub fn new(data: Arc<DataSet>, samples: Arc<Samples>, max_nested: usize) -> Self {
         Nested {
             data,
+            samples,
             left: max_nested,
             memo: Vec::new(),
         }
@@ -52,12 +55,7 @@ impl Nested {
 
     /// The best of `model` (whose layout is `layout`) from the truth, the random starts and
     /// the optima of its nested layouts.
-    pub fn optimum(
-        &mut self,
-        model: &ModelSpec,
-        layout: &Layout,
-        truth: Option<&BrdfParams>,
-    ) -> Found {
+    pub fn optimum(&mut self, model: &ModelSpec, layout: &Layout, truth: Option<&Params>) -> Found {
         let mut seeds = Vec::new();
         for child in nested_models(model) {
             if let Some((child_layout, found)) = self.child(&child) {
@@ -69,7 +67,7 @@ impl Nested {
                 seeds.push((how, found.params));
             }
         }
-        fit_layout(&self.data, layout, truth, &seeds)
+        fit_layout(&self.data, &self.samples, layout, truth, &seeds)
     }
 
     /// The optimum of the nested `model`, computed once; `None` once the budget of nested
@@ -127,7 +125,7 @@ fn kinds_text(kinds: &[LobeKind]) -> String {
 }
 
 /// `p` as a start of `layout`: encoded (lobes `p` lacks are dead: zeros) and clamped into the box.
-fn start_in(layout: &Layout, p: &BrdfParams) -> Vec<f64> {
+fn start_in(layout: &Layout, p: &Params) -> Vec<f64> {
     let mut x = layout.encode(p);
     for ((v, &lo), &hi) in x.iter_mut().zip(layout.lower()).zip(layout.upper()) {
         *v = v.clamp(lo, hi);
@@ -155,11 +153,12 @@ fn descend_from<O: sls::Objective>(
 /// is polished once more.
 fn fit_layout(
     data: &Arc<DataSet>,
+    samples: &Arc<Samples>,
     layout: &Layout,
-    truth: Option<&BrdfParams>,
-    seeds: &[(String, BrdfParams)],
+    truth: Option<&Params>,
+    seeds: &[(String, Params)],
 ) -> Found {
-    let objective = sls::BrdfObjective::new(data.clone(), layout.clone())
+    let objective = sls::BrdfObjective::with_samples(data.clone(), samples.clone(), layout.clone())
         .with_starts(sls::StartDist::LogUniform);
     // No clock and no target: only the evaluation count could stop it, and it is unlimited.
     let budget = Budget {

@@ -4,7 +4,7 @@ use sls::Budget;
 
 use crate::duration::human_seconds;
 
-use super::{DataFormat, Source, Spec};
+use super::{Source, Spec};
 
 impl Spec {
     /// A readable plan: instances, configurations, trial count and the work at the cutoff
@@ -36,11 +36,10 @@ impl Spec {
                     name.as_deref().unwrap_or("custom params")
                 ),
                 Source::File { spec, resolved } => format!(
-                    "file {} ({:?})",
+                    "file {} ({})",
                     resolved.display(),
-                    spec.format
-                        .or_else(|| DataFormat::from_path(&spec.path))
-                        .unwrap_or(DataFormat::Csv)
+                    spec.format_for(&spec.path)
+                        .map_or_else(|e| format!("format unknown: {e}"), |f| f.to_string())
                 ),
             };
             let kinds: Vec<String> = i

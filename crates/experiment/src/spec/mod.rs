@@ -17,7 +17,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use brdf_model::{BrdfParams, Channel, ExponentCoord, LobeKind};
+use brdf_model::{Channel, ExponentCoord, FamilyRef, LobeKind, Params};
 use serde::{Deserialize, Serialize};
 use sls::{AlgorithmConfig, Budget};
 
@@ -80,38 +80,36 @@ impl SpecError {
     }
 }
 
-/// Data file format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DataFormat {
-    /// Cornell `.brdf` text.
-    Cornell,
-    /// CSV (vectors or angles in degrees).
-    Csv,
-    /// MERL binary.
-    Merl,
+/// A data format's name as a spec or flag gives it (`cornell`, `csv`, `merl`, `alta`: the names
+/// of [`brdf_model::Format`], checked when read); stored as written.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(transparent)]
+pub struct FormatName(String);
+
+impl FormatName {
+    /// The name, checked against the formats' names (the error lists them).
+    pub fn new(name: &str) -> Result<Self, String> {
+        brdf_model::Format::from_name(name).map_err(|e| e.to_string())?;
+        Ok(FormatName(name.trim().to_ascii_lowercase()))
+    }
+
+    /// The name.
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
 }
 
-crate::choice::named_choices!(DataFormat {
-    Cornell => "cornell",
-    Csv => "csv",
-    Merl => "merl",
-});
+impl<'de> Deserialize<'de> for FormatName {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        FormatName::new(&s).map_err(serde::de::Error::custom)
+    }
+}
 
-impl DataFormat {
-    /// Guesses the format from a file extension (`.brdf`, `.csv`, `.binary`/`.merl`).
-    pub fn from_path(path: &Path) -> Option<Self> {
-        match path
-            .extension()?
-            .to_string_lossy()
-            .to_ascii_lowercase()
-            .as_str()
-        {
-            "brdf" => Some(DataFormat::Cornell),
-            "csv" => Some(DataFormat::Csv),
-            "binary" | "merl" => Some(DataFormat::Merl),
-            _ => None,
-        }
+impl std::str::FromStr for FormatName {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        FormatName::new(s)
     }
 }
 
@@ -121,15 +119,21 @@ impl DataFormat {
 pub struct FileSpec {
     /// Path as written (relative to the spec file's directory).
     pub path: PathBuf,
-    /// Format (default: from the extension).
+    /// Format (default: from the extension; an extension no format has is an error).
     #[serde(default)]
-    pub format: Option<DataFormat>,
-    /// Cornell wavelength in nm (default 550).
+    pub format: Option<FormatName>,
+    /// Cornell wavelength in nm (default 550); for Cornell files only.
     #[serde(default)]
     pub wavelength: Option<f64>,
-    /// MERL channel (default green).
+    /// The colour channel of MERL and ALTA RGB files (default green); for those only.
     #[serde(default)]
     pub channel: Option<Channel>,
+    /// What an ALTA file's values are when its header has no `#PARAM_OUT` (`"INV_STERADIAN"`,
+    /// `"INV_STERADIAN_COSINE_FACTOR"` or `"RGB_COLOR"`, as ALTA writes them); for ALTA files
+    /// only. Left out of the canonical
+    /// form when unset.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub param_out: Option<brdf_model::io::AltaOutput>,
     /// Drop values above this.
     #[serde(default)]
     pub max_value: Option<f64>,
@@ -147,6 +151,65 @@ fn yes() -> bool {
 }
 
 impl FileSpec {
+    /// The file at `path` (this spec's path resolved) with only the data policy's defaults:
+    /// the format from the extension, every option at its default.
+    pub fn plain(path: PathBuf) -> FileSpec {
+        FileSpec {
+            path,
+            format: None,
+            wavelength: None,
+            channel: None,
+            param_out: None,
+            max_value: None,
+            drop_negative: false,
+            drop_below_horizon: true,
+        }
+    }
+
+    /// The one place a file's format is decided: [`brdf_model::Format`] from `format` (else
+    /// from `path`'s extension, which must be one a format has: never a silent default) with
+    /// this spec's options applied and checked ([`brdf_model::Format::validate`]); an option
+    /// the format does not take is an error naming it.
+    pub fn format_for(&self, path: &Path) -> Result<brdf_model::Format, String> {
+        use brdf_model::Format;
+        let mut f = match &self.format {
+            Some(n) => Format::from_name(n.as_str()).map_err(|e| e.to_string())?,
+            None => Format::from_path(path).map_err(|e| e.to_string())?,
+        };
+        let not_for = |key: &str, f: &Format| {
+            format!(
+                "`{key}` applies to {} files, not {} ones",
+                match key {
+                    "wavelength" => "cornell",
+                    "channel" => "merl and alta",
+                    _ => "alta",
+                },
+                f.name()
+            )
+        };
+        if let Some(w) = self.wavelength {
+            match &mut f {
+                Format::Cornell { wavelength_nm } => *wavelength_nm = w,
+                other => return Err(not_for("wavelength", other)),
+            }
+        }
+        if let Some(c) = self.channel {
+            match &mut f {
+                Format::Merl { channel } => *channel = c,
+                Format::Alta { channel, .. } => *channel = Some(c),
+                other => return Err(not_for("channel", other)),
+            }
+        }
+        if let Some(o) = self.param_out {
+            match &mut f {
+                Format::Alta { param_out, .. } => *param_out = Some(o),
+                other => return Err(not_for("param_out", other)),
+            }
+        }
+        f.validate().map_err(|e| e.to_string())?;
+        Ok(f)
+    }
+
     /// The reader filters this spec asks for: [`brdf_model::Filters::default`] (the one data
     /// policy) with this file's options; non-finite values are always dropped.
     pub fn filters(&self) -> brdf_model::Filters {
@@ -167,8 +230,8 @@ pub enum Source {
     Synthetic {
         /// Paper table name, when given by name.
         name: Option<String>,
-        /// The generating parameters.
-        params: BrdfParams,
+        /// The generating parameters (of any family).
+        params: Params,
         /// Sample count.
         samples: usize,
         /// Noise standard deviation.
@@ -189,6 +252,14 @@ pub enum Source {
 /// The model shape to fit.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ModelSpec {
+    /// The model family (`family = "ggx"`). Left out of the canonical form when it is
+    /// Lafortune, the default, so the fingerprints of specs written before families existed
+    /// stay valid.
+    #[serde(
+        skip_serializing_if = "FamilyRef::is_lafortune",
+        serialize_with = "family_name"
+    )]
+    pub family: FamilyRef,
     /// Lobe kinds, one per lobe.
     pub kinds: Vec<LobeKind>,
     /// Exponent coordinate.
@@ -203,10 +274,20 @@ pub struct ModelSpec {
     pub bounds: BTreeMap<String, [f64; 2]>,
 }
 
+fn family_name<S: serde::Serializer>(f: &FamilyRef, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(f.name())
+}
+
 impl ModelSpec {
-    /// A model with `lobes` lobes of one kind, default coordinate, nothing fixed.
+    /// A Lafortune model with `lobes` lobes of one kind, default coordinate, nothing fixed.
     pub fn simple(lobes: usize, kind: LobeKind) -> Self {
+        Self::of_family(FamilyRef::lafortune(), lobes, kind)
+    }
+
+    /// A model of `family` with `lobes` lobes of one kind, default coordinate, nothing fixed.
+    pub fn of_family(family: FamilyRef, lobes: usize, kind: LobeKind) -> Self {
         ModelSpec {
+            family,
             kinds: vec![kind; lobes],
             exponent: ExponentCoord::default(),
             starts: sls::StartDist::Coordinate,
@@ -217,7 +298,8 @@ impl ModelSpec {
 
     /// Builds the parameter layout.
     pub fn layout(&self) -> Result<brdf_model::Layout, brdf_model::ModelError> {
-        let mut b = brdf_model::Layout::builder(&self.kinds).exponent_coord(self.exponent);
+        let mut b = brdf_model::Layout::builder_for(&self.family, &self.kinds)?
+            .exponent_coord(self.exponent);
         for (name, &[lo, hi]) in &self.bounds {
             b = b.bounds(name, lo, hi)?;
         }

@@ -82,6 +82,7 @@ fn default_instance_seed() -> u64 {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ParsedModel {
+    pub(super) family: Option<Spanned<String>>,
     pub(super) lobes: Option<usize>,
     pub(super) kind: Option<LobeKind>,
     pub(super) kinds: Option<Vec<LobeKind>>,

@@ -15,7 +15,7 @@ use super::limits::{
     MAX_PLANNED_TRIALS, MAX_SAMPLE_PARAMS, MAX_SAMPLES, MAX_TARGETS, MAX_TRACE_TRIALS,
 };
 use super::parsed::{ParsedBudget, ParsedInstance, ParsedModel, ParsedSynthetic, line_of};
-use super::{DataFormat, InstanceSpec, ModelSpec, PlotSpec, Source, SpecError, StatsSpec};
+use super::{InstanceSpec, ModelSpec, PlotSpec, Source, SpecError, StatsSpec};
 
 /// Where errors point: the spec text (for line numbers) and its name.
 pub(super) struct Ctx<'a> {
@@ -275,24 +275,9 @@ fn file(
     } else {
         base_dir.join(&f.path)
     };
-    if f.format.is_none() && DataFormat::from_path(&f.path).is_none() {
-        return Err(cx.invalid(
-            line,
-            format!(
-                "instance `{name}`: cannot tell the format of `{}` from its extension; set `file.format` (cornell, csv, merl)",
-                f.path.display()
-            ),
-        ));
-    }
-    if let Some(w) = f.wavelength
-        && !(w.is_finite() && w > 0.0)
-    {
-        return Err(cx.invalid(
-            line,
-            format!(
-                "instance `{name}`: `file.wavelength` must be a positive number of nm, found {w}"
-            ),
-        ));
+    // The one check of the format and its options (the reader applies the same).
+    if let Err(e) = f.format_for(&f.path) {
+        return Err(cx.invalid(line, format!("instance `{name}`: `file`: {e}")));
     }
     if let Some(m) = f.max_value
         && m.is_nan()
@@ -315,8 +300,27 @@ fn model(
     let mline = raw.as_ref().and_then(|m| cx.line(m));
     let rm = raw.map(Spanned::into_inner).unwrap_or_default();
     let default_lobes = match source {
-        Source::Synthetic { params, .. } => params.lobes.len().max(1),
+        Source::Synthetic { params, .. } => params.lobe_count().max(1),
         Source::File { .. } => 1,
+    };
+    // The family: as written, else the synthetic parameters' (data made by a model is fitted
+    // by it unless the spec says otherwise), else Lafortune.
+    let family = match &rm.family {
+        Some(f) => brdf_model::family(f.get_ref()).map_err(|e| {
+            cx.invalid(
+                cx.line(f),
+                format!("instance `{name}`: `model.family`: {e}"),
+            )
+        })?,
+        None => match source {
+            Source::Synthetic { params, .. } => params.family().clone(),
+            Source::File { .. } => brdf_model::FamilyRef::lafortune(),
+        },
+    };
+    let default_kind = if family.kinds().contains(&LobeKind::Anisotropic) {
+        LobeKind::Anisotropic
+    } else {
+        family.kinds()[0]
     };
     let kinds = match rm.kinds {
         Some(k) if !k.is_empty() => k,
@@ -331,7 +335,7 @@ fn model(
                     format!("instance `{name}`: `model.lobes` must be from 1 to {MAX_LOBES}, found {lobes}"),
                 ));
             }
-            vec![rm.kind.unwrap_or(LobeKind::Anisotropic); lobes]
+            vec![rm.kind.unwrap_or(default_kind); lobes]
         }
     };
     if kinds.len() > MAX_LOBES {
@@ -370,6 +374,7 @@ fn model(
     }
     let exponent = rm.exponent.unwrap_or_default();
     let model = ModelSpec {
+        family,
         kinds,
         exponent,
         starts: canonical_starts(rm.starts.unwrap_or_default(), exponent),
@@ -382,6 +387,8 @@ fn model(
             brdf_model::ModelError::UnknownParameter { name: n, .. }
             | brdf_model::ModelError::InvalidBounds { name: n, .. }
             | brdf_model::ModelError::FixedOutOfBounds { name: n, .. } => Some(n.clone()),
+            brdf_model::ModelError::UnsupportedKind { .. }
+            | brdf_model::ModelError::TooManyLobes { .. } => None,
         };
         let l = match culprit {
             Some(n) if model.fixed.contains_key(&n) => fixed_line,

@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
-use brdf_experiment::spec::{DataFormat, FileSpec};
+use brdf_experiment::spec::{FileSpec, FormatName};
 use clap::Args;
 
-use super::values::{choice, enum_value};
+use super::values::enum_value;
 
 /// Where a data set comes from and how it is filtered. The defaults are the data policy every
 /// command shares, `run` included: non-finite values and samples below the horizon are dropped,
@@ -13,17 +13,21 @@ use super::values::{choice, enum_value};
 /// dropping them biases the RMSE).
 #[derive(Args, Clone)]
 pub struct DataArgs {
-    /// Data file: Cornell .brdf, CSV, or MERL binary.
+    /// Data file: Cornell .brdf, CSV, MERL binary or ALTA text (.dat, .alta).
     pub data: PathBuf,
-    /// File format (default: from the extension).
-    #[arg(long, value_parser = choice::<DataFormat>(DataFormat::NAMES))]
-    pub format: Option<DataFormat>,
-    /// Cornell wavelength in nm.
-    #[arg(long, default_value_t = brdf_model::DEFAULT_WAVELENGTH_NM)]
-    pub wavelength: f64,
-    /// MERL channel: red, green or blue.
-    #[arg(long, value_parser = enum_value::<brdf_model::Channel>, default_value = "green")]
-    pub channel: brdf_model::Channel,
+    /// File format: cornell, csv, merl or alta (default: from the extension).
+    #[arg(long, value_parser = |s: &str| s.parse::<FormatName>())]
+    pub format: Option<FormatName>,
+    /// Cornell wavelength in nm (default 550); Cornell files only.
+    #[arg(long)]
+    pub wavelength: Option<f64>,
+    /// Channel of MERL and ALTA RGB files: red, green (default) or blue.
+    #[arg(long, value_parser = enum_value::<brdf_model::Channel>)]
+    pub channel: Option<brdf_model::Channel>,
+    /// What an ALTA file's values are when its header lacks #PARAM_OUT: INV_STERADIAN,
+    /// INV_STERADIAN_COSINE_FACTOR or RGB_COLOR.
+    #[arg(long, value_parser = enum_value::<brdf_model::io::AltaOutput>)]
+    pub param_out: Option<brdf_model::io::AltaOutput>,
     /// Drop values above this (the paper used 1 for the Cornell paint).
     #[arg(long)]
     pub max_value: Option<f64>,
@@ -40,9 +44,10 @@ impl DataArgs {
     pub fn file_spec(&self) -> FileSpec {
         FileSpec {
             path: self.data.clone(),
-            format: self.format,
-            wavelength: Some(self.wavelength),
-            channel: Some(self.channel),
+            format: self.format.clone(),
+            wavelength: self.wavelength,
+            channel: self.channel,
+            param_out: self.param_out,
             max_value: self.max_value,
             drop_negative: self.drop_negative,
             drop_below_horizon: !self.keep_below_horizon,

@@ -1,20 +1,24 @@
 //! Flags of the model to fit, of `fit`, and of a parameter set (`gen`, `eval`, `render`).
 
-use brdf_model::{BrdfParams, ExponentCoord, Lobe, LobeKind};
+use brdf_model::{ExponentCoord, FamilyRef, LobeKind, Params};
 use clap::Args;
 
 use super::DataArgs;
-use super::values::{enum_value, finite, lobe, named_number, named_toml, params};
+use super::values::{enum_value, family, finite, lobe_of, named_number, named_toml, params};
 
 /// The model to fit.
 #[derive(Args, Clone)]
 pub struct ModelArgs {
+    /// The model family: lafortune (the paper's, the default), ggx, cook-torrance, ward,
+    /// ward-gmd, blinn-phong, ashikhmin-shirley, or one a program registered.
+    #[arg(long, value_parser = family, default_value = "lafortune")]
+    pub family: FamilyRef,
     /// Number of lobes.
     #[arg(long, default_value_t = 1)]
     pub lobes: usize,
-    /// Lobe kind: anisotropic or isotropic.
-    #[arg(long, value_parser = enum_value::<LobeKind>, default_value = "anisotropic")]
-    pub kind: LobeKind,
+    /// Lobe kind: anisotropic or isotropic (default: anisotropic where the family has it).
+    #[arg(long, value_parser = enum_value::<LobeKind>)]
+    pub kind: Option<LobeKind>,
     /// Hold a parameter fixed: NAME=VALUE (e.g. lobe1.pan=45); repeatable.
     #[arg(long = "fix", value_name = "NAME=VALUE", value_parser = named_number)]
     pub fixed: Vec<(String, f64)>,
@@ -71,42 +75,75 @@ pub struct FitArgs {
     pub progress: brdf_experiment::progress::ProgressMode,
 }
 
+impl ModelArgs {
+    /// The lobe kind: as given, else anisotropic where the family has it, else its one kind.
+    pub fn kind(&self) -> LobeKind {
+        self.kind.unwrap_or_else(|| {
+            let kinds = self.family.kinds();
+            if kinds.contains(&LobeKind::Anisotropic) {
+                LobeKind::Anisotropic
+            } else {
+                kinds[0]
+            }
+        })
+    }
+}
+
 /// Parameters: a named set, JSON, or flags.
 #[derive(Args, Clone)]
 pub struct ParamArgs {
     /// Named parameters (tuning, cross, paper-bluepaint, pbrt-bluepaint), JSON
-    /// {"kd":0.15,"lobes":[{"cx":-1,"cy":0.8,"cz":0.96,"n":20,"pan_deg":45}]} or @FILE.
+    /// {"kd":0.15,"lobes":[{"cx":-1,"cy":0.8,"cz":0.96,"n":20,"pan_deg":45}]} (another family:
+    /// {"family":"ggx","kd":0.1,"lobes":[{"ks":0.5,"ax":0.1,"ay":0.1,"f0":0.04,"pan":0}]}) or
+    /// @FILE.
     #[arg(long, value_parser = params)]
-    pub params: Option<BrdfParams>,
+    pub params: Option<Params>,
+    /// The family of --kd and --lobe (default lafortune).
+    #[arg(long = "family", value_parser = family, value_name = "FAMILY")]
+    pub family: Option<FamilyRef>,
     /// Diffuse term kd (with --lobe, instead of --params).
     #[arg(long, value_parser = finite)]
     pub kd: Option<f64>,
-    /// A lobe CX,CY,CZ,N[,PAN_DEG]; repeatable.
+    /// A lobe: its fields in the family's order (Lafortune: CX,CY,CZ,N[,PAN_DEG]) or
+    /// NAME=VALUE pairs (ks=0.5,ax=0.1,ay=0.2); repeatable.
     #[arg(
         long = "lobe",
-        value_name = "CX,CY,CZ,N[,PAN]",
-        allow_hyphen_values = true,
-        value_parser = lobe
+        value_name = "CX,CY,CZ,N[,PAN] | NAME=VALUE,...",
+        allow_hyphen_values = true
     )]
-    pub lobes: Vec<Lobe>,
+    pub lobes: Vec<String>,
 }
 
 impl ParamArgs {
-    /// The parameter set the flags describe, checked against the model's box.
-    pub fn params(&self) -> Result<BrdfParams, String> {
+    /// The parameter set the flags describe, checked against its family's box.
+    pub fn params(&self) -> Result<Params, String> {
         if let Some(p) = &self.params {
             if self.kd.is_some() || !self.lobes.is_empty() {
                 return Err("give either --params or --kd/--lobe, not both".into());
+            }
+            if let Some(f) = &self.family
+                && f != p.family()
+            {
+                return Err(format!(
+                    "--family {} but --params are of the {} family",
+                    f.name(),
+                    p.family().name()
+                ));
             }
             return Ok(p.clone());
         }
         let Some(kd) = self.kd else {
             return Err("give --params NAME|JSON|@FILE, or --kd and --lobe".into());
         };
-        let p = BrdfParams {
-            kd,
-            lobes: self.lobes.clone(),
-        };
+        let family = self.family.clone().unwrap_or_else(FamilyRef::lafortune);
+        let mut p = Params::defaults(family.clone(), 0);
+        if !p.set("kd", kd) {
+            return Err(format!("--kd: the {} family has no kd", family.name()));
+        }
+        for l in &self.lobes {
+            let values = lobe_of(&family, l).map_err(|e| format!("--lobe {e}"))?;
+            p.push_lobe(values).map_err(|e| format!("--lobe: {e}"))?;
+        }
         p.validate().map_err(|e| format!("--kd/--lobe: {e}"))?;
         Ok(p)
     }

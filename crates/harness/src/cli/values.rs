@@ -5,7 +5,7 @@
 
 use std::str::FromStr;
 
-use brdf_model::{BrdfParams, Lobe};
+use brdf_model::{FamilyRef, Params};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use serde::de::DeserializeOwned;
 
@@ -70,30 +70,69 @@ pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {
 }
 
 /// A parameter set: a paper name (`tuning`, `cross`, ...), JSON as printed on the `json:` line
-/// of `brdf-sls fit`, or `@FILE` holding such JSON, read by [`brdf_experiment::params`] (checked
-/// against the model's box).
-pub fn params(s: &str) -> Result<BrdfParams, String> {
+/// of `brdf-sls fit` (of any family: `"family"` names it), or `@FILE` holding such JSON, read
+/// by [`brdf_experiment::params`] (checked against its family's box).
+pub fn params(s: &str) -> Result<Params, String> {
     brdf_experiment::params::parse_params("--params", brdf_experiment::params::ParamsInput::Text(s))
         .map(|g| g.params)
         .map_err(|e| e.to_string())
 }
 
-/// A lobe `CX,CY,CZ,N[,PAN_DEG]`.
-pub fn lobe(s: &str) -> Result<Lobe, String> {
-    let v: Vec<f64> = s.split(',').map(finite).collect::<Result<_, _>>()?;
-    if !(v.len() == 4 || v.len() == 5) {
-        return Err(format!(
-            "`{s}`: expected 4 or 5 numbers CX,CY,CZ,N[,PAN], found {}",
-            v.len()
-        ));
+/// A model family by name (`lafortune`, `ggx`, ...; the error lists them).
+pub fn family(s: &str) -> Result<FamilyRef, String> {
+    brdf_model::family(s).map_err(|e| e.to_string())
+}
+
+/// One lobe of `family` as `--lobe` gives it: the lobe's fields in the family's order
+/// (Lafortune: `CX,CY,CZ,N[,PAN]`; trailing optional fields may be left out), or
+/// `NAME=VALUE` pairs (`ks=0.5,ax=0.1,ay=0.2`; optional fields left out take their default).
+pub fn lobe_of(family: &FamilyRef, s: &str) -> Result<Vec<f64>, String> {
+    let fields = family.lobe_fields();
+    let names = || fields.iter().map(|f| f.name).collect::<Vec<_>>().join(",");
+    let mut out: Vec<Option<f64>> = vec![None; fields.len()];
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.iter().any(|p| p.contains('=')) {
+        for part in parts {
+            let (k, v) = assignment(part).map_err(|e| format!("`{s}`: {e}"))?;
+            let i = fields.iter().position(|f| f.name == k).ok_or_else(|| {
+                format!(
+                    "`{s}`: `{k}` is not a lobe field of {} ({})",
+                    family.name(),
+                    names()
+                )
+            })?;
+            if out[i].replace(finite(&v)?).is_some() {
+                return Err(format!("`{s}`: `{k}` given twice"));
+            }
+        }
+    } else {
+        if parts.len() > fields.len() {
+            return Err(format!(
+                "`{s}`: {} numbers; a {} lobe has {} fields ({})",
+                parts.len(),
+                family.name(),
+                fields.len(),
+                names()
+            ));
+        }
+        for (o, p) in out.iter_mut().zip(&parts) {
+            *o = Some(finite(p)?);
+        }
     }
-    Ok(Lobe {
-        cx: v[0],
-        cy: v[1],
-        cz: v[2],
-        n: v[3],
-        pan_deg: v.get(4).copied().unwrap_or(0.0),
-    })
+    fields
+        .iter()
+        .zip(out)
+        .map(|(f, v)| match v {
+            Some(v) => Ok(v),
+            None if f.optional => Ok(f.default),
+            None => Err(format!(
+                "`{s}`: no value for `{}`; a {} lobe is {} (NAME=VALUE pairs or numbers in this order)",
+                f.name,
+                family.name(),
+                names()
+            )),
+        })
+        .collect()
 }
 
 /// Three comma-separated numbers (a point or a colour) as a command-line value.
@@ -154,9 +193,29 @@ mod tests {
             "kd outside the box"
         );
         assert!(params("tunning").unwrap_err().contains("tuning"));
-        assert_eq!(lobe("-1,0.8,0.96,20,45").unwrap().pan_deg, 45.0);
-        assert!(lobe("1,2,3").is_err());
-        assert!(lobe("1,2,3,nan").is_err());
+        let laf = FamilyRef::lafortune();
+        assert_eq!(lobe_of(&laf, "-1,0.8,0.96,20,45").unwrap()[4], 45.0);
+        assert_eq!(lobe_of(&laf, "-1,0.8,0.96,20").unwrap()[4], 0.0);
+        assert_eq!(
+            lobe_of(&laf, "cz=0.96,cx=-1,cy=0.8,n=20").unwrap(),
+            vec![-1.0, 0.8, 0.96, 20.0, 0.0]
+        );
+        assert!(
+            lobe_of(&laf, "1,2,3")
+                .unwrap_err()
+                .contains("no value for `n`")
+        );
+        assert!(lobe_of(&laf, "1,2,3,nan").is_err());
+        assert!(
+            lobe_of(&laf, "cx=1,q=2")
+                .unwrap_err()
+                .contains("not a lobe field")
+        );
+        let ggx = family("ggx").unwrap();
+        assert_eq!(
+            lobe_of(&ggx, "ks=0.5,ax=0.1,ay=0.2").unwrap(),
+            vec![0.5, 0.1, 0.2, 1.0, 0.0]
+        );
         assert_eq!(
             enum_value::<brdf_model::LobeKind>("isotropic").unwrap(),
             brdf_model::LobeKind::Isotropic

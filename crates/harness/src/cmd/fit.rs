@@ -27,8 +27,9 @@ pub fn fit(a: FitArgs) -> Result<()> {
     let m = &a.model;
     let model = model_spec(
         Surface::Cli,
+        m.family.clone(),
         m.lobes,
-        m.kind,
+        m.kind(),
         m.exponent,
         m.fixed.iter().cloned(),
     )?;

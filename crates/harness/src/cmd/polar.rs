@@ -3,9 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use brdf_experiment::spec::DataFormat;
 use brdf_experiment::store::read_results;
-use brdf_model::{BrdfParams, DataSet};
+use brdf_model::{DataSet, Params};
 
 use super::shared::{load_data, load_non_empty, params_rmse};
 use super::{bail_input, input_error, note, say};
@@ -24,7 +23,7 @@ const CURVE_COLORS: [(u8, u8, u8); 6] = [
 ];
 
 /// Parses one `--fit LABEL=PARAMS` (the label is optional; `index` numbers unlabelled JSON).
-fn parse_fit(s: &str, index: usize) -> Result<(String, BrdfParams)> {
+fn parse_fit(s: &str, index: usize) -> Result<(String, Params)> {
     // JSON holds no `=` before its `{`, a label no `{`: split at an `=` before any brace.
     let (label, p) = match assignment(s) {
         Ok((l, p)) if !l.contains('{') => (l, p),
@@ -48,7 +47,7 @@ fn best_from_results(
     target: &Path,
     config: &str,
     instance: Option<&str>,
-) -> Result<(String, BrdfParams)> {
+) -> Result<(String, Params)> {
     if !target.exists() {
         bail_input!(
             "--from-results {}: no such results directory or trials.jsonl file",
@@ -254,14 +253,14 @@ pub fn polar(a: PolarArgs) -> Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let is_cornell = match a.data.format {
-        Some(f) => f == DataFormat::Cornell,
-        None => DataFormat::from_path(&a.data.data) == Some(DataFormat::Cornell),
+    let wavelength = match a.data.file_spec().format_for(&a.data.data) {
+        Ok(brdf_model::Format::Cornell { wavelength_nm }) => Some(wavelength_nm),
+        _ => None,
     };
     let title = a.title.clone().unwrap_or_else(|| {
         let mut t = file_name.clone();
-        if is_cornell {
-            t.push_str(&format!(" at {} nm", a.data.wavelength));
+        if let Some(w) = wavelength {
+            t.push_str(&format!(" at {w} nm"));
         }
         if let Some(m) = a.data.max_value {
             t.push_str(&format!(", values > {m} dropped"));

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use brdf_experiment::spec::Spec;
-use brdf_model::{BrdfParams, DataSet, Evaluator, FilterReport, LobeKind};
+use brdf_model::{DataSet, Evaluator, FilterReport, Params};
 
 use super::{input_error, note};
 use crate::cli::DataArgs;
@@ -48,13 +48,13 @@ pub fn load_non_empty(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
     Ok((data, rep))
 }
 
-/// RMSE of `params` on `data`, through the evaluator with a layout of as many anisotropic
-/// lobes as `params` has (an isotropic lobe is the anisotropic one with `cx = cy`, pan 0).
-pub fn params_rmse(params: &BrdfParams, data: &DataSet) -> Result<f64> {
-    let kinds: Vec<LobeKind> = vec![LobeKind::Anisotropic; params.lobes.len()];
-    let layout = brdf_model::Layout::builder(&kinds).build()?;
+/// RMSE of `params` on `data`, through the evaluator with a layout of as many lobes as
+/// `params` has, each of the family's fullest kind (an isotropic lobe is the anisotropic one
+/// with its pairs tied, pan 0), so every field of `params` is used as given.
+pub fn params_rmse(params: &Params, data: &DataSet) -> Result<f64> {
+    let layout = brdf_model::Layout::of_params(params)?;
     let x = layout.encode(params);
-    Ok(Evaluator::new(&layout).rmse(&x, data))
+    Ok(Evaluator::new(&layout).rmse(&x, &layout.prepare(data)))
 }
 
 /// The spec a results folder was last run with (`brdf_analysis::report::stored_spec`): a

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use brdf_experiment::spec::{DataFormat, FileSpec};
+use brdf_experiment::spec::FileSpec;
 use brdf_graphics::ImageFormat;
 use brdf_graphics::chart::{self, Chart};
 use brdf_stress::{NamedData, StressOptions, StressReport};
@@ -82,21 +82,10 @@ fn progress_line(line: &str) {
 
 /// Reads a data file with the default data policy.
 fn load_named(path: &Path) -> Result<NamedData> {
-    if DataFormat::from_path(path).is_none() {
-        bail_input!(
-            "--data {}: cannot tell the format from the extension (.brdf, .csv, .binary)",
-            path.display()
-        );
+    let spec = FileSpec::plain(path.to_path_buf());
+    if let Err(e) = spec.format_for(path) {
+        bail_input!("--data {}: {e}", path.display());
     }
-    let spec = FileSpec {
-        path: path.to_path_buf(),
-        format: None,
-        wavelength: None,
-        channel: None,
-        max_value: None,
-        drop_negative: false,
-        drop_below_horizon: true,
-    };
     let (data, rep) = brdf_experiment::instance::load_file(&spec, path)
         .with_context(|| format!("reading {}", path.display()))?;
     note!("{}: {} samples ({rep})", path.display(), data.len());

@@ -2,10 +2,9 @@
 //! module docs): [`AltaInput`], [`AltaOutput`] and the header and sample parsing behind
 //! [`Format::Alta`](super::Format::Alta).
 
-use super::csv::normalise;
 use super::lines::{LineSource, Sample, read_samples, short};
 use super::merl::Channel;
-use super::{DEFAULT_CHANNEL, DataError, dir_from_angles};
+use super::{DEFAULT_CHANNEL, DataError, dir_from_angles, normalise};
 use crate::data::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 

@@ -1,39 +1,10 @@
 //! The Cornell text reader (`*.brdf`; format in the [`io`](crate::io) module docs).
 
-use super::format::Format;
 use super::limits::MAX_WAVELENGTHS;
 use super::lines::{LineSource, Sample, read_samples, short};
 use super::{DataError, dir_from_angles};
 use crate::data::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
-use std::path::Path;
-
-/// Reads a Cornell `.brdf` file at wavelength `wavelength_nm` (must match one listed in the
-/// file within 1e-6 nm), applying `filters`: [`super::read`] with [`Format::Cornell`]. The
-/// file is streamed (see the module docs for the limits).
-pub fn read_cornell(
-    path: impl AsRef<Path>,
-    wavelength_nm: f64,
-    filters: &Filters,
-) -> Result<(DataSet, FilterReport), DataError> {
-    super::read(path.as_ref(), &Format::Cornell { wavelength_nm }, filters)
-}
-
-/// Parses Cornell text already in memory; `path` is only used in errors: [`super::parse`]
-/// with [`Format::Cornell`].
-pub fn parse_cornell(
-    text: &str,
-    path: &Path,
-    wavelength_nm: f64,
-    filters: &Filters,
-) -> Result<(DataSet, FilterReport), DataError> {
-    super::parse(
-        text.as_bytes(),
-        path,
-        &Format::Cornell { wavelength_nm },
-        filters,
-    )
-}
 
 pub(super) fn cornell_from<R: BufRead>(
     mut lines: LineSource<'_, R>,
@@ -134,33 +105,4 @@ pub(super) fn cornell_from<R: BufRead>(
         let v = dir_from_angles(row[2], row[3]);
         Ok(Sample::new(u, v, row[4]))
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn cornell_errors() {
-        let path = Path::new("x.brdf");
-        let f = Filters::default();
-        let e = parse_cornell("# only comments\n", path, 550.0, &f).unwrap_err();
-        assert!(matches!(e, DataError::Parse { line: 0, .. }), "{e}");
-        let e = parse_cornell("two\n", path, 550.0, &f).unwrap_err();
-        assert!(matches!(e, DataError::Parse { line: 1, .. }), "{e}");
-        let e = parse_cornell("2\n500 550\n0 0 0 0 1\n", path, 550.0, &f).unwrap_err();
-        assert!(
-            e.to_string().contains("x.brdf:3: expected 6 numbers"),
-            "{e}"
-        );
-        let e = parse_cornell("2\n500 550\n0 0 0 0 1 q\n", path, 550.0, &f).unwrap_err();
-        assert!(matches!(e, DataError::Parse { line: 3, .. }), "{e}");
-        let e = parse_cornell("2\n500 600\n", path, 550.0, &f).unwrap_err();
-        assert!(matches!(e, DataError::NoWavelength { .. }), "{e}");
-        let e = parse_cornell("2\n500\n", path, 550.0, &f).unwrap_err();
-        assert!(e.to_string().contains("end of file after 1"), "{e}");
-        let (d, rep) = parse_cornell("2\n500\n550\n0.1 0 0.1 3.14 1 2\n", path, 550.0, &f).unwrap();
-        assert_eq!((d.len(), rep.read), (1, 1));
-        assert_eq!(d.value(0), 2.0);
-    }
 }

@@ -8,7 +8,7 @@ use super::csv::csv_from;
 use super::limits::check_text_len;
 use super::lines::LineSource;
 use super::merl::{Channel, MerlBrdf};
-use super::{DataError, open};
+use super::{DataError, FormatError, open};
 use crate::data::{DataSet, FilterReport, Filters};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -66,35 +66,6 @@ pub enum Format {
         /// file is refused). When the file has one, it must agree.
         #[serde(skip_serializing_if = "Option::is_none")]
         param_out: Option<AltaOutput>,
-    },
-}
-
-/// A format name or option that is not valid.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum FormatError {
-    /// No format has this name.
-    #[error("expected a format name ({}), found `{found}`", FORMAT_NAMES.join(", "))]
-    UnknownName {
-        /// The name given.
-        found: String,
-    },
-    /// No channel has this name.
-    #[error("expected a channel name (red, green, blue), found `{found}`")]
-    UnknownChannel {
-        /// The name given.
-        found: String,
-    },
-    /// An option out of its range.
-    #[error("format `{format}`, option `{option}`: expected {expected}, found {found}")]
-    Option {
-        /// The format's name.
-        format: &'static str,
-        /// The option's name.
-        option: &'static str,
-        /// What the option must be.
-        expected: String,
-        /// What it was.
-        found: String,
     },
 }
 
@@ -340,6 +311,65 @@ fn dispatch<'p, R: BufRead>(
         Format::Alta { channel, param_out } => alta_from(text()?, channel, param_out, filters),
         Format::Merl { channel } => Ok(merl()?.sample_grid(channel, filters)),
     }
+}
+
+// The readers' own entry points, kept for their callers: each is `read` or `parse` with
+// its format.
+
+/// Reads a CSV file (format in the module docs), applying `filters`: [`read`] with
+/// [`Format::Csv`]. The file is streamed (see the module docs for the limits).
+pub fn read_csv(
+    path: impl AsRef<Path>,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    read(path.as_ref(), &Format::Csv, filters)
+}
+
+/// Parses CSV already in memory; `path` is only used in errors: [`parse`] with
+/// [`Format::Csv`].
+pub fn parse_csv(
+    text: &str,
+    path: &Path,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    parse(text.as_bytes(), path, &Format::Csv, filters)
+}
+
+/// Reads a Cornell `.brdf` file at wavelength `wavelength_nm` (must match one listed in the
+/// file within 1e-6 nm), applying `filters`: [`read`] with [`Format::Cornell`]. The
+/// file is streamed (see the module docs for the limits).
+pub fn read_cornell(
+    path: impl AsRef<Path>,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    read(path.as_ref(), &Format::Cornell { wavelength_nm }, filters)
+}
+
+/// Parses Cornell text already in memory; `path` is only used in errors: [`parse`]
+/// with [`Format::Cornell`].
+pub fn parse_cornell(
+    text: &str,
+    path: &Path,
+    wavelength_nm: f64,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    parse(
+        text.as_bytes(),
+        path,
+        &Format::Cornell { wavelength_nm },
+        filters,
+    )
+}
+
+/// Reads a MERL file and samples `channel` on its own grid (see [`MerlBrdf::sample_grid`]):
+/// [`read`] with [`Format::Merl`].
+pub fn read_merl(
+    path: impl AsRef<Path>,
+    channel: Channel,
+    filters: &Filters,
+) -> Result<(DataSet, FilterReport), DataError> {
+    read(path.as_ref(), &Format::Merl { channel }, filters)
 }
 
 #[cfg(test)]

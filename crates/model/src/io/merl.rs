@@ -1,6 +1,6 @@
 //! The MERL binary table: reading, writing, lookup and sampling ([`MerlBrdf`], [`Channel`]).
 
-use super::format::{Format, FormatError};
+use super::FormatError;
 use super::limits::{MAX_MERL_BYTES, MAX_MERL_DIM};
 use super::{DataError, dir_from_angles, io_err, open};
 use crate::data::{DataSet, FilterReport, Filters};
@@ -293,14 +293,4 @@ impl MerlBrdf {
         }
         (data, rep)
     }
-}
-
-/// Reads a MERL file and samples `channel` on its own grid (see [`MerlBrdf::sample_grid`]):
-/// [`super::read`] with [`Format::Merl`].
-pub fn read_merl(
-    path: impl AsRef<Path>,
-    channel: Channel,
-    filters: &Filters,
-) -> Result<(DataSet, FilterReport), DataError> {
-    super::read(path.as_ref(), &Format::Merl { channel }, filters)
 }

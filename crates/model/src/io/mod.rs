@@ -139,15 +139,19 @@ mod format;
 mod limits;
 mod lines;
 mod merl;
+#[cfg(test)]
+mod reader_tests;
 
 pub use alta::{ALTA_MIN_COSINE, AltaInput, AltaOutput};
-pub use cornell::{parse_cornell, read_cornell};
-pub use csv::{parse_csv, read_csv};
-pub use format::{DEFAULT_CHANNEL, EXTENSIONS, FORMAT_NAMES, Format, FormatError, parse, read};
+
+pub use format::{
+    DEFAULT_CHANNEL, EXTENSIONS, FORMAT_NAMES, Format, parse, parse_cornell, parse_csv, read,
+    read_cornell, read_csv, read_merl,
+};
 pub use limits::{
     MAX_INPUT_BYTES, MAX_LINE_BYTES, MAX_MERL_BYTES, MAX_MERL_DIM, MAX_SAMPLES, MAX_WAVELENGTHS,
 };
-pub use merl::{Channel, MerlBrdf, read_merl};
+pub use merl::{Channel, MerlBrdf};
 
 #[cfg(doc)]
 use crate::data::{DataSet, FilterReport, Filters};
@@ -239,6 +243,51 @@ fn known_extensions() -> String {
         .map(|(e, n)| format!(".{e} ({n})"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// A format name or option that is not valid.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FormatError {
+    /// No format has this name.
+    #[error("expected a format name ({}), found `{found}`", format::FORMAT_NAMES.join(", "))]
+    UnknownName {
+        /// The name given.
+        found: String,
+    },
+    /// No channel has this name.
+    #[error("expected a channel name (red, green, blue), found `{found}`")]
+    UnknownChannel {
+        /// The name given.
+        found: String,
+    },
+    /// An option out of its range.
+    #[error("format `{format}`, option `{option}`: expected {expected}, found {found}")]
+    Option {
+        /// The format's name.
+        format: &'static str,
+        /// The option's name.
+        option: &'static str,
+        /// What the option must be.
+        expected: String,
+        /// What it was.
+        found: String,
+    },
+}
+
+/// Normalises a direction given by finite or non-finite components: `Ok(None)` for a zero
+/// vector, non-finite components are passed through (the filters count them).
+pub(super) fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
+    if a.iter().any(|c| !c.is_finite()) {
+        return Some(a);
+    }
+    // Scale first so that huge or tiny components neither overflow nor underflow.
+    let m = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if m == 0.0 {
+        return None;
+    }
+    let b = [a[0] / m, a[1] / m, a[2] / m];
+    let len = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+    Some([b[0] / len, b[1] / len, b[2] / len])
 }
 
 fn io_err(path: &Path, source: std::io::Error) -> DataError {

@@ -1,11 +1,12 @@
-"""brdf-sls from Python: the Lafortune BRDF model, seeded SLS fits, experiments and results.
+"""brdf-sls from Python: BRDF model families (Lafortune, GGX, ...), seeded SLS fits, experiments and results.
 
 Everything runs in the Rust crates of the brdf-sls workspace (the extension module
 ``brdf_sls._native``); this package adds pandas-friendly records of results folders.
 
 - :class:`DataSet`: samples from Cornell/CSV/MERL files (``DataSet.read``), numpy arrays
   (``DataSet.from_arrays``) or synthetic (``DataSet.synthetic``).
-- :class:`Model`: evaluate parameters at directions, residuals, RMSE and the Jacobian.
+- :class:`Model`: a model family with a layout: evaluate parameters at directions, residuals,
+  RMSE and the Jacobian; :func:`families` lists the families.
 - :func:`fit`: one seeded fit with any algorithm and its settings as keyword arguments.
 - :func:`run`: run or resume an experiment spec (as ``brdf-sls run``).
 - :func:`read_results`: a results folder as records (trials, traces, statistics).
@@ -26,6 +27,7 @@ from ._native import (
     Problem,
     RunError,
     __version__,
+    families,
     fit,
     named_params,
     rmse,
@@ -42,6 +44,7 @@ __all__ = [
     "Results",
     "RunError",
     "__version__",
+    "families",
     "fit",
     "named_params",
     "read_results",
