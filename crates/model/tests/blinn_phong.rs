@@ -6,8 +6,7 @@ mod quadrature;
 
 use brdf_model::models::blinn_phong::ln_cos_h;
 use brdf_model::{
-    DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, Params, family,
-    uniform_hemisphere,
+    DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, Params, family, uniform_hemisphere,
 };
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
@@ -71,7 +70,9 @@ fn albedo_at_normal_view_matches_the_closed_form() {
             eprintln!("p = {p}, {k}: A = {integral:.16} (closed form {closed:.16})");
         }
     }
-    eprintln!("Blinn-Phong albedo at normal view: largest |quadrature - closed form| = {worst:.1e}");
+    eprintln!(
+        "Blinn-Phong albedo at normal view: largest |quadrature - closed form| = {worst:.1e}"
+    );
 }
 
 fn sph(theta_deg: f64, phi_deg: f64) -> [f64; 3] {
@@ -85,13 +86,34 @@ fn sph(theta_deg: f64, phi_deg: f64) -> [f64; 3] {
 fn hand_computed_values() {
     let cases = [
         // u = v = n: 0.05 + 0.5 (10 + 8) / (8 pi) = 0.05 + 9 / (8 pi) = 0.40809862195676451.
-        (0.05, 0.5, 10.0, sph(0.0, 0.0), sph(0.0, 0.0), 0.408_098_621_956_764_51),
+        (
+            0.05,
+            0.5,
+            10.0,
+            sph(0.0, 0.0),
+            sph(0.0, 0.0),
+            0.408_098_621_956_764_51,
+        ),
         // u at (60, 0), v at (30, 180): theta_h = 15 degrees, n.h = 0.965925826289068;
         // 0.01 + 0.2 (108 / (8 pi)) 0.965925826289068^100 = 0.036828210282761516.
-        (0.01, 0.2, 100.0, sph(60.0, 0.0), sph(30.0, 180.0), 0.036_828_210_282_761_516),
+        (
+            0.01,
+            0.2,
+            100.0,
+            sph(60.0, 0.0),
+            sph(30.0, 180.0),
+            0.036_828_210_282_761_516,
+        ),
         // u at (50, 10), v at (40, 200): n.h = 0.992489346752518;
         // (1008 / (8 pi)) 0.992489346752518^1000 = 0.021334107243530150.
-        (0.0, 1.0, 1000.0, sph(50.0, 10.0), sph(40.0, 200.0), 0.021_334_107_243_530_150),
+        (
+            0.0,
+            1.0,
+            1000.0,
+            sph(50.0, 10.0),
+            sph(40.0, 200.0),
+            0.021_334_107_243_530_150,
+        ),
     ];
     for (i, (kd, ks, p, u, v, want)) in cases.into_iter().enumerate() {
         let bp = params(kd, ks, p);
@@ -135,7 +157,10 @@ fn horizon_values() {
     // 1e-200 above the horizon: ln(n.h) directly (tan^2 would overflow).
     let e = 1e-200;
     let l = ln_cos_h([1.0, 0.0, e], [0.0, 1.0, e]);
-    assert!((l - (2e-200f64 / 2f64.sqrt()).ln()).abs() <= 1e-13 * l.abs(), "{l}");
+    assert!(
+        (l - (2e-200f64 / 2f64.sqrt()).ln()).abs() <= 1e-13 * l.abs(),
+        "{l}"
+    );
 }
 
 /// Every corner of the box (`p` 0 and 1e6, `ks` 0 and 10, `kd` 0 and 1), both coordinates,

@@ -9,8 +9,7 @@ use brdf_model::models::cook_torrance::{
     COS_D, CookTorrance, LOG_GEOMETRY, SLOPE_X, SLOPE_Y, TAN2, columns,
 };
 use brdf_model::{
-    DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, Params, family,
-    uniform_hemisphere,
+    DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, Params, family, uniform_hemisphere,
 };
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
@@ -77,7 +76,12 @@ fn sph(theta_deg: f64, phi_deg: f64) -> [f64; 3] {
 }
 
 fn params(kd: f64, lobe: [f64; 5]) -> Params {
-    Params::new(family("cook-torrance").unwrap(), vec![kd], vec![lobe.to_vec()]).unwrap()
+    Params::new(
+        family("cook-torrance").unwrap(),
+        vec![kd],
+        vec![lobe.to_vec()],
+    )
+    .unwrap()
 }
 
 /// The value by every kernel (residuals against 0 at the pair `u`, `v`), for a layout of the
@@ -237,13 +241,21 @@ fn edge_directions() -> DataSet {
     let mut rng = Pcg64Mcg::seed_from_u64(5);
     let mut d = DataSet::new();
     for _ in 0..200 {
-        d.push(uniform_hemisphere(&mut rng), uniform_hemisphere(&mut rng), 0.0);
+        d.push(
+            uniform_hemisphere(&mut rng),
+            uniform_hemisphere(&mut rng),
+            0.0,
+        );
     }
     for k in 0..40 {
         let t: f64 = if k % 2 == 0 { 0.0 } else { 1e-6 };
         let (a, b) = (k as f64 * 0.7, k as f64 * 1.9);
         let (ct, st) = (t.cos(), t.sin());
-        d.push([ct * a.cos(), ct * a.sin(), st], [ct * b.cos(), ct * b.sin(), st], 0.0);
+        d.push(
+            [ct * a.cos(), ct * a.sin(), st],
+            [ct * b.cos(), ct * b.sin(), st],
+            0.0,
+        );
         d.push([ct * a.cos(), ct * a.sin(), st], sph(40.0, 77.0), 0.0);
     }
     d.push([0.0, 0.0, 1.0], [0.0, 0.0, 1.0], 0.0);

@@ -57,7 +57,7 @@
 //! `ln(G / (4 uz vz)) <= 461` (from `sz >= 1e-100`) and `2 ln(1 + t) - t / 2.5^2 <= 3.2`, so
 //! `E - T <= 465`: no value in the box overflows (at most about `5e208`) and none is NaN.
 
-use super::geometry::rotate;
+use super::geometry::{rotate, sin_cos_deg};
 use crate::family::{Coord, FieldDef, ParamDef, Role};
 use crate::lobes::{LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
 
@@ -199,7 +199,11 @@ fn parts<M: Math, const ANISO: bool>(c: &CookTorranceCoef, s: &[f64; MAX_COLUMNS
     let (x, sx, sy);
     if ANISO {
         (sx, sy) = rotate(c.cos, c.sin, s[SLOPE_X], s[SLOPE_Y]);
-        x = M::mad(-sx * sx, c.inv_mx2, M::mad(-sy * sy, c.inv_my2, s[LOG_GEOMETRY]));
+        x = M::mad(
+            -sx * sx,
+            c.inv_mx2,
+            M::mad(-sy * sy, c.inv_my2, s[LOG_GEOMETRY]),
+        );
     } else {
         (sx, sy) = (s[TAN2], 0.0);
         x = M::mad(-sx, c.inv_mx2, s[LOG_GEOMETRY]);
@@ -233,8 +237,11 @@ impl LobeShape for CookTorrance {
         } else {
             (f[MX], f[MX])
         };
-        let pan = if aniso { f[PAN] * DEG } else { 0.0 };
-        let (sin, cos) = pan.sin_cos();
+        let (sin, cos) = if aniso {
+            sin_cos_deg(f[PAN])
+        } else {
+            (0.0, 1.0)
+        };
         CookTorranceCoef {
             ks: f[KS],
             f0: f[F0],
