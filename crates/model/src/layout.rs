@@ -486,7 +486,7 @@ mod tests {
                 Lobe::isotropic(0.5, 0.3, 7.0),
             ],
         };
-        let x = l.encode(&Params::from(&p));
+        let x = l.encode(Params::from(&p));
         let q = BrdfParams::try_from(&l.decode(&x)).unwrap();
         assert!((q.lobes[0].n - 20.0).abs() < 1e-12);
         assert!((q.lobes[1].n - 7.0).abs() < 1e-12);
