@@ -2,6 +2,9 @@
 //! quadrature through every kernel, values computed by hand, the sharpest lobe in the box,
 //! and the horizon and the box's edges (finite values and Jacobians, no NaN).
 
+// Expected values are mpmath's digits as printed, some beyond f64's precision.
+#![allow(clippy::excessive_precision)]
+
 mod quadrature;
 
 use brdf_model::models::blinn_phong::ln_cos_h;

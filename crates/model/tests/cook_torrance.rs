@@ -2,6 +2,9 @@
 //! code, values computed by hand, the exponent without cancellation at small roughness, and
 //! the horizon and the box's edges (finite values and Jacobians, no NaN).
 
+// Expected values are mpmath's digits as printed, some beyond f64's precision.
+#![allow(clippy::excessive_precision)]
+
 mod quadrature;
 
 use brdf_model::lobes::{FusedMath, Libm, LobeShape, MAX_COLUMNS, PlainMath};

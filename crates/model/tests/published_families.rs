@@ -3,6 +3,9 @@
 //! docs/published-fits.md documents them evaluated independently here, and against the
 //! families' bounds), and the accuracy of the approximate Beckmann-to-GGX roughness.
 
+// Expected values are mpmath's digits as printed, some beyond f64's precision.
+#![allow(clippy::excessive_precision)]
+
 mod quadrature;
 
 use brdf_model::published::{
@@ -58,6 +61,11 @@ fn hand_computed_conversions() {
             0.00173,
         ),
     ];
+    let ab = NganCookTorrance::from_fit(ct.get("alum-bronze").unwrap()).unwrap();
+    assert_eq!(ab.to_params_default(), ab.to_params(Channel::Green));
+    let bab =
+        NganBlinnPhong::from_fit(load("ngan_blinnphong.fit").get("alum-bronze").unwrap()).unwrap();
+    assert_eq!(bab.to_params_default(), bab.to_params(Channel::Green));
     for (material, channel, kd, ks, m, f0) in cases {
         let p = NganCookTorrance::from_fit(ct.get(material).unwrap())
             .unwrap()

@@ -84,8 +84,8 @@ fn parse() -> Result<Args, String> {
 
 /// The true parameters of `material` for `family`, from the published fits.
 fn truth(family_name: &str, material: &str) -> Result<Params, String> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../experiments/data/published-fits");
+    let dir =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../experiments/data/published-fits");
     let file = |name: &str| read_fits(dir.join(name)).map_err(|e| e.to_string());
     let missing = || format!("no material {material}");
     let g = Channel::Green;
@@ -321,9 +321,10 @@ fn main() {
     println!("|---|---|---|---|---|");
     for (alg, name, reached, evals) in totals {
         let n = evals.len();
-        let w = wins.iter().find(|w| w.0 == alg).map_or(0, |w| {
-            if name == "log" { w.1 } else { w.2 }
-        });
+        let w = wins
+            .iter()
+            .find(|w| w.0 == alg)
+            .map_or(0, |w| if name == "log" { w.1 } else { w.2 });
         println!(
             "| {alg} | {name} | {reached}/{n} | {} | {w} of {} |",
             fmt(median(evals), 1.0),

@@ -104,7 +104,7 @@ const ISOTROPIC: [ParamDef; 2] = [
 pub fn ln_cos_h(u: [f64; 3], v: [f64; 3]) -> f64 {
     let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
     let t = s[0] * s[0] + s[1] * s[1];
-    if !(s[2] > 0.0) {
+    if s[2].is_nan() || s[2] <= 0.0 {
         return -f64::MAX;
     }
     if s[2] > 1e-150 {

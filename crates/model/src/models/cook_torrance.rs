@@ -166,7 +166,8 @@ pub fn columns(u: [f64; 3], v: [f64; 3]) -> [f64; COLUMNS] {
     let t = s[0] * s[0] + s[1] * s[1];
     let len2 = t + s[2] * s[2];
     let cos_d = (0.5 * len2.sqrt()).min(1.0);
-    if !(u[2] >= 0.0 && v[2] >= 0.0 && s[2] >= SZ_MIN) {
+    let above = u[2] >= 0.0 && v[2] >= 0.0 && s[2] >= SZ_MIN;
+    if !above {
         return [0.0, 0.0, 0.0, -f64::MAX, cos_d];
     }
     let (sx, sy) = (s[0] / s[2], s[1] / s[2]);

@@ -81,4 +81,9 @@ impl NganBlinnPhong {
         let lobe = vec![self.ks(channel), self.n[k]];
         Params::new(fam, vec![self.kd[k] / PI], vec![lobe]).expect("the family's field count")
     }
+
+    /// [`NganBlinnPhong::to_params`] for [`super::DEFAULT_CHANNEL`] (green).
+    pub fn to_params_default(&self) -> Params {
+        self.to_params(super::DEFAULT_CHANNEL)
+    }
 }

@@ -145,6 +145,11 @@ impl NganCookTorrance {
         Params::new(fam, vec![self.kd[k] / PI], vec![lobe]).expect("the family's field count")
     }
 
+    /// [`NganCookTorrance::to_params`] for [`super::DEFAULT_CHANNEL`] (green).
+    pub fn to_params_default(&self) -> Params {
+        self.to_params(super::DEFAULT_CHANNEL)
+    }
+
     /// A `ggx` lobe of about the same shape, for one channel: the same `kd`, `ks` and `f0`
     /// (Schlick's in both), roughness [`ggx_alpha_from_beckmann`]`(m)`. Approximate: GGX's
     /// tails are heavier and its masking is Smith's, not the V-cavity; docs/model.md gives the
