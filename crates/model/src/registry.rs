@@ -3,6 +3,8 @@
 
 use crate::family::{DEFAULT_FAMILY, Family, FamilyRef, FieldDef};
 use crate::lobes::LobeFamily;
+use crate::models::blinn_phong::BlinnPhong;
+use crate::models::cook_torrance::CookTorrance;
 use crate::models::ggx::Ggx;
 use crate::params::Params;
 use serde::de::Error as _;
@@ -37,6 +39,8 @@ fn builtins() -> &'static [FamilyRef] {
         vec![
             FamilyRef(crate::lafortune::family()),
             FamilyRef(Arc::new(LobeFamily::<Ggx>::new())),
+            FamilyRef(Arc::new(LobeFamily::<CookTorrance>::new())),
+            FamilyRef(Arc::new(LobeFamily::<BlinnPhong>::new())),
         ]
     })
 }

@@ -24,7 +24,9 @@
 mod eval;
 mod shape;
 
-pub use shape::{Fast, FusedMath, Libm, LobeShape, MAX_COLUMNS, MAX_FIELDS, Math, PlainMath};
+pub use shape::{
+    EXP_CUT, Fast, FusedMath, Libm, LobeShape, MAX_COLUMNS, MAX_FIELDS, Math, PlainMath,
+};
 
 use crate::data::DataSet;
 use crate::evaluate::Evaluate;

@@ -10,6 +10,12 @@ pub const MAX_COLUMNS: usize = 12;
 /// Most fields a lobe may have.
 pub const MAX_FIELDS: usize = 8;
 
+/// The argument below which [`Math::exp_cut`] gives 0. Below it `e^x` is under `3e-300`; the
+/// fast `exp` flushes to 0 below about -700.1 and libm's goes subnormal below -708.4, so
+/// without a common cut the kernels would disagree there in relative terms (0 against a
+/// subnormal) even though both are 0 for any purpose.
+pub const EXP_CUT: f64 = -690.0;
+
 /// How the per-sample formulas compute `a * b + c`, `exp`, `ln` and `sqrt`: the fast
 /// branch-free functions of [`crate::fastmath`] (what the vectorised kernels use) or std's
 /// libm (the scalar reference kernel).
@@ -25,6 +31,14 @@ pub trait Math {
     #[inline(always)]
     fn sqrt(x: f64) -> f64 {
         x.sqrt()
+    }
+    /// `e^x` for `x >= EXP_CUT`, 0 below ([`EXP_CUT`]): the same cut in every kernel, so the
+    /// fast and the libm kernels agree on which tail values are exactly 0 (a lobe of the form
+    /// `exp(-t)` reaches every `t` in its tails).
+    #[inline(always)]
+    fn exp_cut(x: f64) -> f64 {
+        let e = Self::exp(x);
+        if x >= EXP_CUT { e } else { 0.0 }
     }
     /// `x^p = exp(p ln x)` for `x > 0`, 0 for `x <= 0` (also when `p = 0`).
     #[inline(always)]

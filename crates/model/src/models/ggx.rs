@@ -193,8 +193,11 @@ impl LobeShape for Ggx {
         } else {
             (f[AX], f[AX])
         };
-        let pan = if aniso { f[PAN] * DEG } else { 0.0 };
-        let (sin, cos) = pan.sin_cos();
+        let (sin, cos) = if aniso {
+            geometry::sin_cos_deg(f[PAN])
+        } else {
+            (0.0, 1.0)
+        };
         GgxCoef {
             ks: f[KS],
             ax,

@@ -1,5 +1,7 @@
 //! Published per-material BRDF fits of the MERL materials: a reader for bbm's `.fit` files and
-//! the conversion of Ngan et al.'s Lafortune fits into this crate's [`BrdfParams`].
+//! the conversions of Ngan et al.'s fits into this crate's parameters: Lafortune
+//! ([`BrdfParams`]), Cook-Torrance and Blinn-Phong ([`crate::Params`] of the `cook-torrance` and
+//! `blinn-phong` families; [`bounds_violations`] lists what falls outside a family's bounds).
 //!
 //! The files in `experiments/data/published-fits/` come from the BSD-licensed repository
 //! bsdfbenchmark/bbm (folder `fits/`); they hold the fits that Ngan, Durand and Matusik (2005),
@@ -56,10 +58,16 @@
 //!
 //! [`BrdfParams`]: crate::BrdfParams
 
+mod blinn_phong;
+mod bounds;
+mod cook_torrance;
 mod lafortune;
 mod parse;
 mod report;
 
+pub use blinn_phong::NganBlinnPhong;
+pub use bounds::bounds_violations;
+pub use cook_torrance::{GGX_PER_BECKMANN, NganCookTorrance, ggx_alpha_from_beckmann};
 pub use lafortune::{
     BoxViolation, ConvertError, DEFAULT_CHANNEL, NganLafortune, table1_violations,
 };

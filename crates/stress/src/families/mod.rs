@@ -9,8 +9,11 @@
 //! in double-double (step `1e-9 (1 + |x_j|)`, so truncation and rounding stay below 1e-16
 //! relative), scaled by the column's largest reference entry. A kernel that reports a failed
 //! evaluation where the reference is finite and below `f64::MAX` (or the other way round)
-//! counts as a mismatch.
+//! counts as a mismatch. Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are
+//! compared absolutely.
 
+mod blinn_phong;
+mod cook_torrance;
 mod ggx;
 
 use crate::dd::DD;
@@ -26,13 +29,30 @@ use serde::{Deserialize, Serialize};
 /// Direction pairs per batch.
 pub const BATCH: usize = 32;
 
+/// Values below this are compared absolutely (the relative error is taken against it), and
+/// it is the smallest scale of a Jacobian column. The kernels' `exp` gives 0 below `e^-690`
+/// (`brdf_model::lobes::EXP_CUT`) where double-double still has a value (down to `e^-746`),
+/// and a lobe multiplies that by at most about `1e7`: values under `1e-285` that are 0 in the
+/// kernels. Nothing of use is that small.
+pub const VALUE_FLOOR: f64 = 1e-250;
+
 /// A family's lobe in double-double: `fields` are the lobe's physical field values (the
 /// family's order), `u` and `v` the directions.
 pub type LobeReference = fn(fields: &[DD], u: [f64; 3], v: [f64; 3]) -> DD;
 
 /// The families with a double-double reference, by name.
 pub fn references() -> Vec<(&'static str, LobeReference)> {
-    vec![(brdf_model::models::ggx::NAME, ggx::lobe as LobeReference)]
+    vec![
+        (brdf_model::models::ggx::NAME, ggx::lobe as LobeReference),
+        (
+            brdf_model::models::cook_torrance::NAME,
+            cook_torrance::lobe as LobeReference,
+        ),
+        (
+            brdf_model::models::blinn_phong::NAME,
+            blinn_phong::lobe as LobeReference,
+        ),
+    ]
 }
 
 /// How a batch's point and directions are drawn.
@@ -248,7 +268,10 @@ fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<Famil
     let finite_ref = refs.iter().all(|r| r.is_finite() && r.hi.abs() <= f64::MAX);
     // A column whose derivative vanishes (pan of a lobe with ax = ay) is compared absolutely,
     // against 1e-10 of the largest value: its analytic entries are rounding noise of that size.
-    let floor = 1e-10 * refs.iter().fold(0.0f64, |a, r| a.max(r.to_f64().abs()));
+    // A batch whose values all lie in a narrow lobe's far tails is compared against
+    // VALUE_FLOOR.
+    let largest = refs.iter().fold(0.0f64, |a, r| a.max(r.to_f64().abs()));
+    let floor = (1e-10 * largest).max(VALUE_FLOOR);
     let mut out = Vec::new();
     for k in Kernel::available() {
         let mut ev = Evaluator::with_kernel(&layout, k).expect("an available kernel");
@@ -270,7 +293,7 @@ fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<Famil
                 let e = if rf == 0.0 {
                     v.abs()
                 } else {
-                    (v - rf).abs() / rf.abs()
+                    (v - rf).abs() / rf.abs().max(VALUE_FLOOR)
                 };
                 s.max_value_error = s.max_value_error.max(e);
             }
