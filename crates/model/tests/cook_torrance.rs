@@ -9,7 +9,7 @@ mod quadrature;
 
 use brdf_model::lobes::{FusedMath, Libm, LobeShape, MAX_COLUMNS, PlainMath};
 use brdf_model::models::cook_torrance::{
-    COS_D, CookTorrance, LOG_GEOMETRY, SLOPE_X, SLOPE_Y, TAN2, columns,
+    CookTorrance, LOG_GEOMETRY, ONE_MINUS_COS_D, SLOPE_X, SLOPE_Y, TAN2, columns,
 };
 use brdf_model::{
     DataSet, Evaluator, ExponentCoord, Kernel, Layout, LobeKind, Params, family, uniform_hemisphere,
@@ -30,7 +30,7 @@ fn d_of<const ANISO: bool>(fields: &[f64; 5], h: [f64; 3], math: usize) -> f64 {
     s[SLOPE_Y] = sy;
     s[TAN2] = tan2;
     s[LOG_GEOMETRY] = 2.0 * tan2.ln_1p();
-    s[COS_D] = 1.0;
+    s[ONE_MINUS_COS_D] = 0.0;
     match math {
         0 => CookTorrance::value::<Libm, ANISO>(&c, &s),
         1 => CookTorrance::value::<PlainMath, ANISO>(&c, &s),

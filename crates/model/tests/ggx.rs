@@ -3,7 +3,7 @@
 mod quadrature;
 
 use brdf_model::lobes::{FusedMath, Libm, LobeShape, MAX_COLUMNS, PlainMath};
-use brdf_model::models::geometry::{H, U, UH, V};
+use brdf_model::models::geometry::{H, ONE_MINUS_UH, U, V};
 use brdf_model::models::ggx::Ggx;
 
 /// `D(h)` as the lobe computes it: with `u = v = n` in the masking columns (`G1(u)/uz =
@@ -16,7 +16,7 @@ fn d_of<const ANISO: bool>(fields: &[f64; 5], h: [f64; 3], math: usize) -> f64 {
     s[U + 2] = 1.0;
     s[V + 2] = 1.0;
     s[H..H + 3].copy_from_slice(&h);
-    s[UH] = 1.0;
+    s[ONE_MINUS_UH] = 0.0;
     match math {
         0 => Ggx::value::<Libm, ANISO>(&c, &s),
         1 => Ggx::value::<PlainMath, ANISO>(&c, &s),

@@ -88,8 +88,8 @@ pub const TAN2: usize = 2;
 /// Column of `E = ln(G / (4 uz vz)) + 2 ln(1 + tan^2(theta_h))` (`-f64::MAX` where the lobe
 /// is 0).
 pub const LOG_GEOMETRY: usize = 3;
-/// Column of `u.h`.
-pub const COS_D: usize = 4;
+/// Column of `1 - u.h`, computed without cancellation ([`super::geometry::one_minus_cos_half`]).
+pub const ONE_MINUS_COS_D: usize = 4;
 /// The number of prepared columns.
 pub const COLUMNS: usize = 5;
 
@@ -165,10 +165,10 @@ pub fn columns(u: [f64; 3], v: [f64; 3]) -> [f64; COLUMNS] {
     let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
     let t = s[0] * s[0] + s[1] * s[1];
     let len2 = t + s[2] * s[2];
-    let cos_d = (0.5 * len2.sqrt()).min(1.0);
+    let q_d = super::geometry::one_minus_cos_half(u, v);
     let above = u[2] >= 0.0 && v[2] >= 0.0 && s[2] >= SZ_MIN;
     if !above {
-        return [0.0, 0.0, 0.0, -f64::MAX, cos_d];
+        return [0.0, 0.0, 0.0, -f64::MAX, q_d];
     }
     let (sx, sy) = (s[0] / s[2], s[1] / s[2]);
     let tan2 = sx * sx + sy * sy;
@@ -180,7 +180,7 @@ pub fn columns(u: [f64; 3], v: [f64; 3]) -> [f64; COLUMNS] {
     } else {
         (q / (4.0 * hi)).ln()
     };
-    [sx, sy, tan2, ln_w + 2.0 * tan2.ln_1p(), cos_d]
+    [sx, sy, tan2, ln_w + 2.0 * tan2.ln_1p(), q_d]
 }
 
 /// The parts of one lobe at one sample shared by the value and the derivatives.
@@ -210,7 +210,7 @@ fn parts<M: Math, const ANISO: bool>(c: &CookTorranceCoef, s: &[f64; MAX_COLUMNS
         x = M::mad(-sx, c.inv_mx2, s[LOG_GEOMETRY]);
     }
     let d = c.norm * M::exp_cut(x);
-    let q = 1.0 - s[COS_D];
+    let q = s[ONE_MINUS_COS_D];
     let q2 = q * q;
     let p5 = q2 * q2 * q;
     let f = M::mad(1.0 - c.f0, p5, c.f0);

@@ -7,12 +7,14 @@ pub const U: usize = 0;
 pub const V: usize = 3;
 /// First column of the unit half vector `h = (u + v) / |u + v|`.
 pub const H: usize = 6;
-/// Column of `u . h` (equal to `v . h`).
-pub const UH: usize = 9;
+/// Column of `1 - u . h` (`u . h = v . h`), computed without cancellation (see
+/// [`one_minus_cos_half`]): Schlick's Fresnel term raises it to the fifth power.
+pub const ONE_MINUS_UH: usize = 9;
 /// The number of columns [`half_vector_columns`] writes.
 pub const COLUMNS: usize = 10;
 
-/// Writes `u`, `v`, the unit half vector and `u . h` into `cols` (at least [`COLUMNS`] long).
+/// Writes `u`, `v`, the unit half vector and `1 - u . h` into `cols` (at least [`COLUMNS`]
+/// long).
 /// For `v = -u` (no half vector; impossible for two directions above the surface) `h` is the
 /// normal.
 pub fn half_vector_columns(u: [f64; 3], v: [f64; 3], cols: &mut [f64]) {
@@ -26,7 +28,17 @@ pub fn half_vector_columns(u: [f64; 3], v: [f64; 3], cols: &mut [f64]) {
     cols[U..U + 3].copy_from_slice(&u);
     cols[V..V + 3].copy_from_slice(&v);
     cols[H..H + 3].copy_from_slice(&h);
-    cols[UH] = (u[0] * h[0] + u[1] * h[1] + u[2] * h[2]).clamp(0.0, 1.0);
+    cols[ONE_MINUS_UH] = one_minus_cos_half(u, v);
+}
+
+/// `1 - u . h` for unit `u`, `v` and `h = (u + v) / |u + v|`: since `u . h = |u + v| / 2` and
+/// `|u + v|^2 + |u - v|^2 = 4`, it is `|u - v|^2 / (2 (2 + |u + v|))`, which keeps its digits
+/// where `u` and `v` are close (retro-reflection), where `1 - |u + v| / 2` cancels (the
+/// Fresnel term `(1 - u.h)^5` at `f0 = 0` was then off by 1e-12 relative). In [0, 1].
+pub fn one_minus_cos_half(u: [f64; 3], v: [f64; 3]) -> f64 {
+    let s2 = (u[0] + v[0]).powi(2) + (u[1] + v[1]).powi(2) + (u[2] + v[2]).powi(2);
+    let d2 = (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2) + (u[2] - v[2]).powi(2);
+    (d2 / (2.0 * (2.0 + s2.sqrt()))).clamp(0.0, 1.0)
 }
 
 /// The in-plane components `(x', y')` of `(x, y)` in a frame rotated by the pan angle

@@ -21,7 +21,7 @@
 //! `f0`. The roughness is seen by the optimiser as `ln(alpha)` ([`Coord::Log`]) unless the
 //! spec says `exponent = "raw"`.
 
-use super::geometry::{self, H, U, UH, V, rotate};
+use super::geometry::{self, H, ONE_MINUS_UH, U, V, rotate};
 use crate::family::{Coord, FieldDef, ParamDef, Role};
 use crate::lobes::{LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
 
@@ -154,7 +154,7 @@ fn parts<M: Math, const ANISO: bool>(c: &GgxCoef, s: &[f64; MAX_COLUMNS]) -> Par
     let (lu, lv) = (M::sqrt(qu), M::sqrt(qv));
     let gu = 2.0 / (uz + lu);
     let gv = 2.0 / (vz + lv);
-    let q = 1.0 - s[UH];
+    let q = s[ONE_MINUS_UH];
     let q2 = q * q;
     let p5 = q2 * q2 * q;
     let f = M::mad(1.0 - c.f0, p5, c.f0);
