@@ -3,7 +3,9 @@
 
 use crate::family::{DEFAULT_FAMILY, Family, FamilyRef, FieldDef};
 use crate::lobes::LobeFamily;
+use crate::models::ashikhmin_shirley::AshikhminShirley;
 use crate::models::ggx::Ggx;
+use crate::models::ward;
 use crate::params::Params;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer};
@@ -37,6 +39,9 @@ fn builtins() -> &'static [FamilyRef] {
         vec![
             FamilyRef(crate::lafortune::family()),
             FamilyRef(Arc::new(LobeFamily::<Ggx>::new())),
+            FamilyRef(Arc::new(LobeFamily::<ward::Ward>::new())),
+            FamilyRef(Arc::new(LobeFamily::<ward::WardGmd>::new())),
+            FamilyRef(Arc::new(LobeFamily::<AshikhminShirley>::new())),
         ]
     })
 }
