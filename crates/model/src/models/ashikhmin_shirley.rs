@@ -129,7 +129,6 @@ pub struct AshikhminShirley;
 /// Constants of one Ashikhmin-Shirley lobe.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct AsCoef {
-    ks: f64,
     nu: f64,
     nv: f64,
     f0: f64,
@@ -183,20 +182,22 @@ impl LobeShape for AshikhminShirley {
     type Coef = AsCoef;
 
     fn prepare(u: [f64; 3], v: [f64; 3], cols: &mut [f64]) {
-        let mut g = [0.0; geometry::COLUMNS];
-        geometry::half_vector_columns(u, v, &mut g);
-        let (hx, hy, hz) = (g[geometry::H], g[geometry::H + 1], g[geometry::H + 2]);
-        let uh = g[geometry::UH];
-        let s = hx * hx + hy * hy;
-        let ln_hz = if hz <= 0.0 {
+        // The half vector and `u.h` as the paper writes them (`h = (u + v) / |u + v|`, a dot
+        // product), as GGX has them.
+        let mut geo = [0.0; geometry::COLUMNS];
+        geometry::half_vector_columns(u, v, &mut geo);
+        let h = [geo[geometry::H], geo[geometry::H + 1], geo[geometry::H + 2]];
+        let uh = geo[geometry::UH];
+        let s = h[0] * h[0] + h[1] * h[1];
+        let ln_hz = if h[2] <= 0.0 {
             LN_HZ_MIN
         } else if s < 0.5 {
             0.5 * (-s).ln_1p()
         } else {
-            hz.ln()
+            h[2].ln()
         };
-        cols[HX] = hx;
-        cols[HY] = hy;
+        cols[HX] = h[0];
+        cols[HY] = h[1];
         cols[G] = if s > 0.0 { ln_hz / s } else { -0.5 };
         cols[LNHZ] = ln_hz;
         let q = 1.0 - uh;
@@ -230,7 +231,6 @@ impl LobeShape for AshikhminShirley {
             (1.0 / (nu + 1.0), 0.0)
         };
         AsCoef {
-            ks: f[KS],
             nu,
             nv,
             f0: f[F0],
