@@ -1,5 +1,5 @@
 //! Section 1b: every model family beside Lafortune against a double-double reference of its
-//! own formula, over the whole box, its edges and grazing directions.
+//! own formula, over the whole box, its edges, grazing directions and the horizon itself.
 //!
 //! For each family ([`references`] lists those with a reference) and each kernel the CPU runs,
 //! seeded batches draw one layout (one anisotropic lobe, one isotropic lobe, two lobes), one
@@ -7,11 +7,15 @@
 //! pairs. The values are compared with the family's formula evaluated in double-double
 //! arithmetic ([`crate::dd`]); each Jacobian column with central differences of that formula
 //! in double-double (step `1e-9 (1 + |x_j|)`, so truncation and rounding stay below 1e-16
-//! relative), scaled by the column's largest reference entry. A kernel that reports a failed
-//! evaluation where the reference is finite and below `f64::MAX` (or the other way round)
-//! counts as a mismatch.
+//! relative), scaled by the column's largest reference entry (at least [`ABSOLUTE_FLOOR`]). A
+//! kernel that reports a failed evaluation where the reference is finite and below `f64::MAX`
+//! (or the other way round) counts as a mismatch: a family whose value on the horizon is
+//! `+inf` (Ward's) fails every [`FamilyRegime::Horizon`] batch, in the kernels as in its
+//! reference.
 
+mod ashikhmin_shirley;
 mod ggx;
+mod ward;
 
 use crate::dd::DD;
 use crate::derive_seed;
@@ -32,7 +36,13 @@ pub type LobeReference = fn(fields: &[DD], u: [f64; 3], v: [f64; 3]) -> DD;
 
 /// The families with a double-double reference, by name.
 pub fn references() -> Vec<(&'static str, LobeReference)> {
-    vec![(brdf_model::models::ggx::NAME, ggx::lobe as LobeReference)]
+    use brdf_model::models::{ashikhmin_shirley as asm, ward as wm};
+    vec![
+        (brdf_model::models::ggx::NAME, ggx::lobe as LobeReference),
+        (wm::NAME, ward::lobe as LobeReference),
+        (wm::GMD_NAME, ward::lobe_gmd as LobeReference),
+        (asm::NAME, ashikhmin_shirley::lobe as LobeReference),
+    ]
 }
 
 /// How a batch's point and directions are drawn.
@@ -47,17 +57,29 @@ pub enum FamilyRegime {
     WidestShape,
     /// Linear parameters at their bounds.
     Edges,
-    /// Directions within 1e-3 rad of the horizon (and exactly on it).
+    /// Directions within 1e-3 rad of the horizon, not on it.
     Grazing,
+    /// Directions exactly on the horizon: the incident one, the exitant one or both (a third
+    /// each). Where a family's value there is `+inf` (Ward's), every such batch must fail in
+    /// the kernels as in the reference; apart from [`FamilyRegime::Grazing`] so that the
+    /// grazing batches of such a family still compare values.
+    Horizon,
 }
 
-const REGIMES: [FamilyRegime; 5] = [
+const REGIMES: [FamilyRegime; 6] = [
     FamilyRegime::Uniform,
     FamilyRegime::SharpestShape,
     FamilyRegime::WidestShape,
     FamilyRegime::Edges,
     FamilyRegime::Grazing,
+    FamilyRegime::Horizon,
 ];
+
+/// Values and derivatives below this are compared absolutely: the vector kernels give 0 for
+/// `exp` below -700 (`brdf_model::fastmath::EXP_NORMAL_MAX`, about 1e-304), and a lobe
+/// multiplies that by its factors (at most about 1e50 here) before it shows. No fit sees
+/// such a value beside data of normal size.
+pub const ABSOLUTE_FLOOR: f64 = 1e-250;
 
 /// One family and kernel over all batches.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -68,8 +90,8 @@ pub struct FamilyKernelStats {
     pub kernel: String,
     /// Values compared.
     pub values: usize,
-    /// Largest relative error of a value (`|f - ref| / |ref|`, reference values of 0 compared
-    /// absolutely).
+    /// Largest relative error of a value (`|f - ref| / |ref|`; reference values of 0 compared
+    /// absolutely, those below [`ABSOLUTE_FLOOR`] relative to it).
     pub max_value_error: f64,
     /// Largest Jacobian error relative to its column's largest reference entry.
     pub max_jacobian_error: f64,
@@ -162,17 +184,28 @@ fn directions(regime: FamilyRegime, rng: &mut Pcg64) -> DataSet {
     for i in 0..BATCH {
         let mut u = uniform_hemisphere(rng);
         let mut v = uniform_hemisphere(rng);
-        if regime == FamilyRegime::Grazing {
-            let t = if i % 4 == 0 {
-                0.0
-            } else {
-                1e-3 * rng.random::<f64>()
-            };
-            for w in [&mut u, &mut v] {
-                let r = (w[0] * w[0] + w[1] * w[1]).sqrt().max(1e-300);
-                let s = t.cos();
-                *w = [w[0] / r * s, w[1] / r * s, t.sin()];
+        let on_horizon = |w: &mut [f64; 3], t: f64| {
+            let r = (w[0] * w[0] + w[1] * w[1]).sqrt().max(1e-300);
+            let s = t.cos();
+            *w = [w[0] / r * s, w[1] / r * s, t.sin()];
+        };
+        match regime {
+            FamilyRegime::Grazing => {
+                for w in [&mut u, &mut v] {
+                    // Never exactly 0: `random` is in [0, 1).
+                    let t = 1e-3 * (1.0 - rng.random::<f64>());
+                    on_horizon(w, t);
+                }
             }
+            FamilyRegime::Horizon => {
+                if i % 3 != 1 {
+                    on_horizon(&mut u, 0.0);
+                }
+                if i % 3 != 0 {
+                    on_horizon(&mut v, 0.0);
+                }
+            }
+            _ => {}
         }
         d.push(u, v, 0.0);
     }
@@ -269,6 +302,8 @@ fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<Famil
                 let rf = rf.to_f64();
                 let e = if rf == 0.0 {
                     v.abs()
+                } else if rf.abs() < ABSOLUTE_FLOOR {
+                    (v - rf).abs() / ABSOLUTE_FLOOR
                 } else {
                     (v - rf).abs() / rf.abs()
                 };
@@ -281,7 +316,7 @@ fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<Famil
                 if !scale.is_finite() {
                     continue;
                 }
-                let scale = scale.max(floor);
+                let scale = scale.max(floor).max(ABSOLUTE_FLOOR);
                 for (a, b) in col.iter().zip(rc) {
                     s.max_jacobian_error = s.max_jacobian_error.max((a - b).abs() / scale);
                 }
