@@ -2,6 +2,9 @@
 //! lobe's normalisation or albedo: composite Gauss-Legendre in the polar angle, the
 //! (spectrally accurate) periodic trapezoid rule in the azimuth.
 
+// Each test crate that includes this module uses part of it.
+#![allow(dead_code)]
+
 use std::f64::consts::PI;
 
 /// Gauss-Legendre nodes and weights on [-1, 1] (Newton's method on the Legendre polynomial
