@@ -13,17 +13,15 @@ use crate::lafortune::samples::View;
 #[inline(always)]
 pub(super) fn column<A: MulAdd>(d: &View<'_>, lo: usize, g: &[f64], col: &mut [f64], w: [f64; 4]) {
     match Weights::of(w) {
-        Weights::Pqr(w) => column_with::<A>(d, lo, g, col, |p, q, r, _| pqr::<A>(&w, p, q, r)),
-        Weights::S => column_with::<A>(d, lo, g, col, |_, _, _, s| s),
-        Weights::All(w) => {
-            column_with::<A>(d, lo, g, col, |p, q, r, s| weighted::<A>(&w, p, q, r, s))
-        }
+        Weights::Pqr(w) => column_with(d, lo, g, col, |p, q, r, _| pqr::<A>(&w, p, q, r)),
+        Weights::S => column_with(d, lo, g, col, |_, _, _, s| s),
+        Weights::All(w) => column_with(d, lo, g, col, |p, q, r, s| weighted::<A>(&w, p, q, r, s)),
     }
 }
 
 /// `col_i = g_i t(P_i, Q_i, R_i, S_i)` for samples `lo..lo + col.len()`.
 #[inline(always)]
-pub(super) fn column_with<A: MulAdd>(
+pub(super) fn column_with(
     d: &View<'_>,
     lo: usize,
     g: &[f64],
