@@ -111,7 +111,7 @@ fn hand_computed_values() {
         .unwrap()
         .build()
         .unwrap();
-    let q = iso.decode(&iso.encode(&lobe(0.7, 40.0, 40.0, 0.2, 0.0)));
+    let q = iso.decode(&iso.encode(lobe(0.7, 40.0, 40.0, 0.2, 0.0)));
     close(
         q.value(u, dir(30.0, 200.0)),
         lobe(0.7, 40.0, 40.0, 0.2, 0.0).value(u, dir(30.0, 200.0)),

@@ -227,7 +227,7 @@ fn parts<M: Math, const ANISO: bool>(c: &WardCoef, s: &[f64; MAX_COLUMNS]) -> Pa
         qy = 0.0;
     }
     let e = exp_cut::<M>(-(qx + qy));
-    let horizon = !(s[NORM] < f64::INFINITY);
+    let horizon = s[NORM] == f64::INFINITY;
     let n = if horizon { 0.0 } else { s[NORM] };
     Parts {
         qx,
