@@ -1,5 +1,7 @@
 //! Published per-material BRDF fits of the MERL materials: a reader for bbm's `.fit` files and
-//! the conversion of Ngan et al.'s Lafortune fits into this crate's [`BrdfParams`].
+//! the conversion of Ngan et al.'s Lafortune fits into this crate's [`BrdfParams`], of their
+//! Ward fits ([`NganWard`]) and Ashikhmin-Shirley fits ([`NganAshikhminShirley`]) into those
+//! families' [`crate::Params`].
 //!
 //! The files in `experiments/data/published-fits/` come from the BSD-licensed repository
 //! bsdfbenchmark/bbm (folder `fits/`); they hold the fits that Ngan, Durand and Matusik (2005),
@@ -56,10 +58,15 @@
 //!
 //! [`BrdfParams`]: crate::BrdfParams
 
+mod ashikhmin_shirley;
+mod convert;
 mod lafortune;
 mod parse;
 mod report;
+mod ward;
 
+pub use ashikhmin_shirley::NganAshikhminShirley;
+pub use convert::field_violations;
 pub use lafortune::{
     BoxViolation, ConvertError, DEFAULT_CHANNEL, NganLafortune, table1_violations,
 };
@@ -68,6 +75,7 @@ pub use parse::{
     MAX_FIT_MATERIALS, MAX_FIT_NAME_BYTES, parse_fits, read_fits,
 };
 pub use report::{FIT_FILES, ParamSummary, report_markdown, summarise};
+pub use ward::NganWard;
 
 use crate::io::Channel;
 
