@@ -29,9 +29,11 @@
 //! in [0.001, 1]: 0.001 as GGX's lower bound, the sharpest lobe worth fitting; Ngan's fits
 //! span 0.00576 to 0.5, and Ward's normalisation is already far off unity at 1), `pan`
 //! (degrees, in [-90, 90]). An isotropic lobe fits `ks` and `alpha` (setting `ax = ay`). The
-//! roughnesses are seen by the optimiser as `ln(alpha)` ([`Coord::Log`], [`Role::Shape`])
-//! unless the spec says `exponent = "raw"`; that is the coordinate that measured better
-//! (docs/model.md, section "Ward").
+//! roughnesses are seen by the optimiser as `ln(alpha)` ([`Coord::Log`], [`Role::Shape`], as
+//! GGX's) unless the spec says `exponent = "raw"`: measured against the raw roughness the two
+//! are even overall, the log one better on the sharpest lobes and the raw one on broad ones
+//! (docs/model.md, section "Ward"), and only the log one does not depend on the lobe being
+//! broad.
 //!
 //! # At the horizon
 //! Ward's `1 / sqrt(uz vz)` is infinite when a direction lies on the horizon (`uz vz = 0`),
