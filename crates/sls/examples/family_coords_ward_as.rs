@@ -116,7 +116,7 @@ fn truth(family_name: &str, material: &str, anisotropic: bool) -> Result<Params,
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
-    let i = (v.len() + 1) / 2;
+    let i = v.len().div_ceil(2);
     v[i.saturating_sub(1)]
 }
 

@@ -44,7 +44,7 @@ fn variants() -> Vec<AlgorithmConfig> {
 #[test]
 fn subsample_rmse_is_charged_and_leaves_the_best_alone() {
     let objective = tuning(400, 0.0, 3);
-    let truth = objective.layout().encode(&named_params("tuning").unwrap());
+    let truth = objective.layout().encode(named_params("tuning").unwrap());
     let mut ctx = TrialContext::new(&objective, 1, Budget::default(), 0.5);
     let mut off = truth.clone();
     off[0] += 0.05; // kd off by 0.05
