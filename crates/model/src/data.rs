@@ -190,11 +190,11 @@ pub fn uniform_hemisphere<R: Rng + ?Sized>(rng: &mut R) -> [f64; 3] {
     [r * phi.cos(), r * phi.sin(), z]
 }
 
-/// Most samples of a data set built by [`try_synthetic`] or read by the readers in
+/// Most samples of a data set built by [`crate::try_synthetic`] or read by the readers in
 /// [`crate::io`]: 10,000,000 (about 560 MB of [`DataSet`]).
 pub const MAX_SAMPLES: usize = 10_000_000;
 
-/// Largest noise standard deviation [`try_synthetic`] accepts: 1000 (model values are of
+/// Largest noise standard deviation [`crate::try_synthetic`] accepts: 1000 (model values are of
 /// order 0.1 to 100; the paper uses 0.1).
 pub const MAX_SIGMA: f64 = 1000.0;
 

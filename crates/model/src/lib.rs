@@ -10,7 +10,7 @@
 //! - The Lafortune family's own conventions (lobes, pan, Table 1 bounds): [`lafortune`].
 //!
 //! # Modules
-//! - [`family`]: the [`Family`] trait (parameters, coordinates, preparation, evaluators) and
+//! - [`mod@family`]: the [`Family`] trait (parameters, coordinates, preparation, evaluators) and
 //!   [`FamilyRef`]; the registry: [`family()`], [`family_names`], [`register_family`].
 //! - [`lafortune`]: the Lafortune family, its typed parameters ([`BrdfParams`], [`Lobe`]) and
 //!   [`named_params`].

@@ -29,7 +29,7 @@ impl LobeKind {
 pub struct FieldDef {
     /// The name in parameter names (`kd`, `lobe1.cx`, `lobe1.pan`).
     pub name: &'static str,
-    /// The key in the JSON form of [`Params`] (usually [`FieldDef::name`]; Lafortune's pan
+    /// The key in the JSON form of [`crate::Params`] (usually [`FieldDef::name`]; Lafortune's pan
     /// is stored as `pan_deg`).
     pub key: &'static str,
     /// The value a lobe's field takes when no parameter of the lobe's kind sets it (the pan of
@@ -38,7 +38,7 @@ pub struct FieldDef {
     pub default: f64,
     /// Whether the JSON form may leave the field out (it then reads as `default`).
     pub optional: bool,
-    /// The bounds a physical value must lie in ([`Params::validate`]) and the default bounds
+    /// The bounds a physical value must lie in ([`crate::Params::validate`]) and the default bounds
     /// of the parameters that set it.
     pub bounds: (f64, f64),
 }
@@ -114,7 +114,7 @@ pub enum Role {
 pub struct ParamDef {
     /// The name after `lobeK.` (or the whole name for a shared parameter).
     pub name: &'static str,
-    /// The fields it sets (indices into [`Family::lobe_fields`] or [`Family::shared_fields`]);
+    /// The fields it sets (indices into [`crate::Family::lobe_fields`] or [`crate::Family::shared_fields`]);
     /// more than one ties them (all take the parameter's value).
     pub fields: &'static [usize],
     /// The coordinate the optimiser sees by default.

@@ -1,6 +1,6 @@
 //! The model seam: a reflectance model family ([`Family`]) describes its parameters, prepares
 //! per-sample data from a [`DataSet`] and builds evaluators (residuals and Jacobian) for a
-//! [`Layout`]; everything above the model crate (the objective, the searches, best-known, fit,
+//! [`crate::Layout`]; everything above the model crate (the objective, the searches, best-known, fit,
 //! diagnose, stress, polar, render, the Python package) works through it.
 //!
 //! # Parameters, fields and coordinates

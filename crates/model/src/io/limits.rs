@@ -13,7 +13,7 @@ pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// Most sample rows a reader accepts (counted before filtering; also the largest synthetic
-/// instance, see [`crate::data::try_synthetic`]): 10,000,000 (about 560 MB as a [`DataSet`]).
+/// instance, see [`crate::try_synthetic`]): 10,000,000 (about 560 MB as a [`DataSet`]).
 /// The full MERL grid has 1,458,000 cells, the paper's instances 10,000 samples.
 pub const MAX_SAMPLES: usize = crate::data::MAX_SAMPLES;
 
