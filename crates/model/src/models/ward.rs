@@ -51,8 +51,9 @@
 //!
 //! # Numerics
 //! The value is `ks c E N` with `c = 1 / (4 pi ax ay)` per lobe, `E = exp(-x)` (exactly 0 for
-//! `x > 700` in every kernel, as the vector kernels' `exp` flushes there) and `N` the prepared normalisation column:
-//! `1 / sqrt(uz vz)`, or `4 (H.H) / Hz^4` for the bounded form (its `1 / pi` is `4 / (4 pi)`).
+//! `x > 700` in every kernel, as the vector kernels' `exp` flushes there) and `N` the prepared
+//! normalisation column: `1 / sqrt(uz vz)`, or `4 (H.H) / Hz^4` for the bounded form (its
+//! `1 / pi` is `4 / (4 pi)`).
 //! `N <= 1e300` and `c <= 1 / (4 pi 1e-6)`: nothing overflows inside the bounds, the only
 //! `+inf` is Ward's horizon (where the derivatives are 0), and nothing is NaN.
 //! Derivatives (per unit of each field): `d f / d ks = c E N`, `d ln f / d ax = (2 qx - 1) /
