@@ -3,9 +3,11 @@
 
 use crate::family::{DEFAULT_FAMILY, Family, FamilyRef, FieldDef};
 use crate::lobes::LobeFamily;
+use crate::models::ashikhmin_shirley::AshikhminShirley;
 use crate::models::blinn_phong::BlinnPhong;
 use crate::models::cook_torrance::CookTorrance;
 use crate::models::ggx::Ggx;
+use crate::models::ward;
 use crate::params::Params;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer};
@@ -41,6 +43,9 @@ fn builtins() -> &'static [FamilyRef] {
             FamilyRef(Arc::new(LobeFamily::<Ggx>::new())),
             FamilyRef(Arc::new(LobeFamily::<CookTorrance>::new())),
             FamilyRef(Arc::new(LobeFamily::<BlinnPhong>::new())),
+            FamilyRef(Arc::new(LobeFamily::<ward::Ward>::new())),
+            FamilyRef(Arc::new(LobeFamily::<ward::WardGmd>::new())),
+            FamilyRef(Arc::new(LobeFamily::<AshikhminShirley>::new())),
         ]
     })
 }

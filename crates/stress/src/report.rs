@@ -220,9 +220,10 @@ impl StressReport {
             "\n## 1b. Model families against double-double\n\n{} batches of {} direction \
              pairs per family: one anisotropic lobe, one isotropic lobe or two lobes; points \
              uniform in the box, at the sharpest and widest shape, at the edges of the linear \
-             parameters, and grazing directions. Value errors relative to the reference value; \
-             Jacobian errors relative to the column's largest entry, against central \
-             differences of the reference in double-double.\n",
+             parameters, grazing directions and directions on the horizon (where a family whose \
+             value there is +inf, Ward's, must fail). Value errors relative to the reference \
+             value; Jacobian errors relative to the column's largest entry, against central \
+             differences of the reference in double-double; both absolute below 1e-250.\n",
             self.families.batches,
             families::BATCH
         );

@@ -1,7 +1,8 @@
 //! Published per-material BRDF fits of the MERL materials: a reader for bbm's `.fit` files and
 //! the conversions of Ngan et al.'s fits into this crate's parameters: Lafortune
-//! ([`BrdfParams`]), Cook-Torrance and Blinn-Phong ([`crate::Params`] of the `cook-torrance` and
-//! `blinn-phong` families; [`bounds_violations`] lists what falls outside a family's bounds).
+//! ([`BrdfParams`]), Cook-Torrance ([`NganCookTorrance`]), Blinn-Phong ([`NganBlinnPhong`]),
+//! Ward ([`NganWard`]) and Ashikhmin-Shirley ([`NganAshikhminShirley`]) as [`crate::Params`] of
+//! those families; [`bounds_violations`] lists what falls outside a family's bounds.
 //!
 //! The files in `experiments/data/published-fits/` come from the BSD-licensed repository
 //! bsdfbenchmark/bbm (folder `fits/`); they hold the fits that Ngan, Durand and Matusik (2005),
@@ -58,13 +59,17 @@
 //!
 //! [`BrdfParams`]: crate::BrdfParams
 
+mod ashikhmin_shirley;
 mod blinn_phong;
 mod bounds;
+mod convert;
 mod cook_torrance;
 mod lafortune;
 mod parse;
 mod report;
+mod ward;
 
+pub use ashikhmin_shirley::NganAshikhminShirley;
 pub use blinn_phong::NganBlinnPhong;
 pub use bounds::bounds_violations;
 pub use cook_torrance::{GGX_PER_BECKMANN, NganCookTorrance, ggx_alpha_from_beckmann};
@@ -76,6 +81,7 @@ pub use parse::{
     MAX_FIT_MATERIALS, MAX_FIT_NAME_BYTES, parse_fits, read_fits,
 };
 pub use report::{FIT_FILES, ParamSummary, report_markdown, summarise};
+pub use ward::NganWard;
 
 use crate::io::Channel;
 

@@ -1,5 +1,5 @@
 //! Section 1b: every model family beside Lafortune against a double-double reference of its
-//! own formula, over the whole box, its edges and grazing directions.
+//! own formula, over the whole box, its edges, grazing directions and the horizon itself.
 //!
 //! For each family ([`references`] lists those with a reference) and each kernel the CPU runs,
 //! seeded batches draw one layout (one anisotropic lobe, one isotropic lobe, two lobes), one
@@ -7,14 +7,18 @@
 //! pairs. The values are compared with the family's formula evaluated in double-double
 //! arithmetic ([`crate::dd`]); each Jacobian column with central differences of that formula
 //! in double-double (step `1e-9 (1 + |x_j|)`, so truncation and rounding stay below 1e-16
-//! relative), scaled by the column's largest reference entry. A kernel that reports a failed
-//! evaluation where the reference is finite and below `f64::MAX` (or the other way round)
-//! counts as a mismatch. Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are
-//! compared absolutely.
+//! relative), scaled by the column's largest reference entry (at least [`VALUE_FLOOR`]).
+//! Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are compared absolutely. A
+//! kernel that reports a failed evaluation where the reference is finite and below `f64::MAX`
+//! (or the other way round) counts as a mismatch: a family whose value on the horizon is
+//! `+inf` (Ward's) fails every [`FamilyRegime::Horizon`] batch, in the kernels as in its
+//! reference.
 
+mod ashikhmin_shirley;
 mod blinn_phong;
 mod cook_torrance;
 mod ggx;
+mod ward;
 
 use crate::dd::DD;
 use crate::derive_seed;
@@ -42,16 +46,15 @@ pub type LobeReference = fn(fields: &[DD], u: [f64; 3], v: [f64; 3]) -> DD;
 
 /// The families with a double-double reference, by name.
 pub fn references() -> Vec<(&'static str, LobeReference)> {
+    use brdf_model::models::{ashikhmin_shirley as asm, blinn_phong as bpm, cook_torrance as ctm};
+    use brdf_model::models::{ggx as ggxm, ward as wm};
     vec![
-        (brdf_model::models::ggx::NAME, ggx::lobe as LobeReference),
-        (
-            brdf_model::models::cook_torrance::NAME,
-            cook_torrance::lobe as LobeReference,
-        ),
-        (
-            brdf_model::models::blinn_phong::NAME,
-            blinn_phong::lobe as LobeReference,
-        ),
+        (ggxm::NAME, ggx::lobe as LobeReference),
+        (ctm::NAME, cook_torrance::lobe as LobeReference),
+        (bpm::NAME, blinn_phong::lobe as LobeReference),
+        (wm::NAME, ward::lobe as LobeReference),
+        (wm::GMD_NAME, ward::lobe_gmd as LobeReference),
+        (asm::NAME, ashikhmin_shirley::lobe as LobeReference),
     ]
 }
 
@@ -67,16 +70,22 @@ pub enum FamilyRegime {
     WidestShape,
     /// Linear parameters at their bounds.
     Edges,
-    /// Directions within 1e-3 rad of the horizon (and exactly on it).
+    /// Directions within 1e-3 rad of the horizon, not on it.
     Grazing,
+    /// Directions exactly on the horizon: the incident one, the exitant one or both (a third
+    /// each). Where a family's value there is `+inf` (Ward's), every such batch must fail in
+    /// the kernels as in the reference; apart from [`FamilyRegime::Grazing`] so that the
+    /// grazing batches of such a family still compare values.
+    Horizon,
 }
 
-const REGIMES: [FamilyRegime; 5] = [
+const REGIMES: [FamilyRegime; 6] = [
     FamilyRegime::Uniform,
     FamilyRegime::SharpestShape,
     FamilyRegime::WidestShape,
     FamilyRegime::Edges,
     FamilyRegime::Grazing,
+    FamilyRegime::Horizon,
 ];
 
 /// One family and kernel over all batches.
@@ -88,8 +97,8 @@ pub struct FamilyKernelStats {
     pub kernel: String,
     /// Values compared.
     pub values: usize,
-    /// Largest relative error of a value (`|f - ref| / |ref|`, reference values of 0 compared
-    /// absolutely).
+    /// Largest relative error of a value (`|f - ref| / |ref|`; reference values of 0 compared
+    /// absolutely, those below [`VALUE_FLOOR`] relative to it).
     pub max_value_error: f64,
     /// Largest Jacobian error relative to its column's largest reference entry.
     pub max_jacobian_error: f64,
@@ -182,17 +191,28 @@ fn directions(regime: FamilyRegime, rng: &mut Pcg64) -> DataSet {
     for i in 0..BATCH {
         let mut u = uniform_hemisphere(rng);
         let mut v = uniform_hemisphere(rng);
-        if regime == FamilyRegime::Grazing {
-            let t = if i % 4 == 0 {
-                0.0
-            } else {
-                1e-3 * rng.random::<f64>()
-            };
-            for w in [&mut u, &mut v] {
-                let r = (w[0] * w[0] + w[1] * w[1]).sqrt().max(1e-300);
-                let s = t.cos();
-                *w = [w[0] / r * s, w[1] / r * s, t.sin()];
+        let on_horizon = |w: &mut [f64; 3], t: f64| {
+            let r = (w[0] * w[0] + w[1] * w[1]).sqrt().max(1e-300);
+            let s = t.cos();
+            *w = [w[0] / r * s, w[1] / r * s, t.sin()];
+        };
+        match regime {
+            FamilyRegime::Grazing => {
+                for w in [&mut u, &mut v] {
+                    // Never exactly 0: `random` is in [0, 1).
+                    let t = 1e-3 * (1.0 - rng.random::<f64>());
+                    on_horizon(w, t);
+                }
             }
+            FamilyRegime::Horizon => {
+                if i % 3 != 1 {
+                    on_horizon(&mut u, 0.0);
+                }
+                if i % 3 != 0 {
+                    on_horizon(&mut v, 0.0);
+                }
+            }
+            _ => {}
         }
         d.push(u, v, 0.0);
     }
