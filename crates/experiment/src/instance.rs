@@ -4,7 +4,8 @@ use std::cell::Cell;
 use std::path::Path;
 use std::sync::Arc;
 
-use brdf_model::{DataError, DataSet, FilterReport, Layout, ModelError, Samples};
+use brdf_io::DataError;
+use brdf_model::{DataSet, FilterReport, Layout, ModelError, Samples};
 
 use crate::spec::{FileSpec, InstanceSpec, Source};
 
@@ -69,7 +70,7 @@ pub fn load_file(spec: &FileSpec, path: &Path) -> Result<(DataSet, FilterReport)
         path: path.to_path_buf(),
         message,
     })?;
-    brdf_model::io::read(path, &format, &spec.filters())
+    brdf_io::read(path, &format, &spec.filters())
 }
 
 thread_local! {

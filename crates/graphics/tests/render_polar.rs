@@ -11,7 +11,8 @@ use brdf_graphics::polar::{
     polar_panels, select_in_plane,
 };
 use brdf_graphics::render::{RenderOptions, render_png, tone_map};
-use brdf_model::{Filters, named_params, read_cornell};
+use brdf_io::read_cornell;
+use brdf_model::{Filters, named_params};
 use plotters::style::RGBColor;
 
 fn out_dir(tmp: &tempfile::TempDir) -> PathBuf {

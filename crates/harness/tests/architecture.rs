@@ -34,7 +34,8 @@ const LEAVES: &[&str] = &[
 const LAYERS: &[&[&str]] = &[
     &["brdf-simd"],
     &["brdf-model", "bounded-lm"],
-    &["sls", "brdf-graphics", "brdf-stress"],
+    &["brdf-io"],
+    &["sls", "brdf-graphics", "brdf-stress", "brdf-published"],
     &["brdf-experiment"],
     &["brdf-analysis", "brdf-tune"],
     &["brdf-bench"],

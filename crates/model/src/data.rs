@@ -191,7 +191,7 @@ pub fn uniform_hemisphere<R: Rng + ?Sized>(rng: &mut R) -> [f64; 3] {
 }
 
 /// Most samples of a data set built by [`try_synthetic`](crate::try_synthetic) or read by the readers in
-/// [`crate::io`]: 10,000,000 (about 560 MB of [`DataSet`]).
+/// the readers of the `brdf-io` crate: 10,000,000 (about 560 MB of [`DataSet`]).
 pub const MAX_SAMPLES: usize = 10_000_000;
 
 /// Largest noise standard deviation [`try_synthetic`](crate::try_synthetic) accepts: 1000 (model values are of
@@ -261,7 +261,7 @@ impl Filters {
 
     /// [`Filters::admit`] for a sample that the source itself may mark as below the horizon
     /// (MERL's negative entries): `below_mark` counts as a direction below the horizon.
-    pub(crate) fn admit_marked(
+    pub fn admit_marked(
         &self,
         u: [f64; 3],
         v: [f64; 3],

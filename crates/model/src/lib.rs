@@ -24,7 +24,6 @@
 //! - [`synthetic()`], [`try_synthetic`]: synthetic instances of any family.
 //! - [`samples`]: [`Samples`], a family's per-sample columns of a data set.
 //! - [`data`]: [`DataSet`], [`synthetic`], [`Filters`], [`FilterReport`], [`Subsampler`].
-//! - [`io`]: Cornell, CSV, MERL and ALTA readers behind one [`Format`] (documented there).
 
 #![warn(missing_docs)]
 
@@ -33,13 +32,11 @@ pub mod eval;
 mod evaluate;
 pub mod family;
 pub mod fastmath;
-pub mod io;
 pub mod lafortune;
 pub mod layout;
 pub mod lobes;
 pub mod models;
 pub mod params;
-pub mod published;
 mod registry;
 pub mod samples;
 mod synthetic;
@@ -52,16 +49,9 @@ pub use evaluate::{Evaluate, all_finite, grown};
 pub use family::{
     Coord, DEFAULT_FAMILY, Family, FamilyRef, FieldDef, LayoutParam, LobeKind, ParamDef, Role,
 };
-pub use io::Format;
-pub use io::{
-    Channel, DataError, MerlBrdf, parse_cornell, parse_csv, read_cornell, read_csv, read_merl,
-};
 pub use lafortune::{BrdfParams, Lobe, NAMED_PARAMS, named_params};
 pub use layout::{ExponentCoord, Layout, LayoutBuilder, ModelError, is_parameter_name};
 pub use params::{MAX_LOBES, ParamError, Params, Reflectance};
 pub use registry::{FamilyError, family, family_names, register_family};
 pub use samples::Samples;
 pub use synthetic::{synthetic, try_synthetic};
-
-/// Default wavelength (nm) for Cornell files, as in the paper.
-pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use brdf_experiment::spec::{FileSpec, FormatName};
-use brdf_model::{Channel, DataSet, MAX_SAMPLES};
+use brdf_io::Channel;
+use brdf_model::{DataSet, MAX_SAMPLES};
 use numpy::ndarray::{Array2, ArrayView1};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
@@ -142,7 +143,7 @@ impl PyDataSet {
                 .map(|c| enum_value::<Channel>("channel", c))
                 .transpose()?,
             param_out: param_out
-                .map(|o| enum_value::<brdf_model::io::AltaOutput>("param_out", o))
+                .map(|o| enum_value::<brdf_io::AltaOutput>("param_out", o))
                 .transpose()?,
             max_value,
             drop_negative,

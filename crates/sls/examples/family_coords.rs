@@ -23,8 +23,9 @@
 //! p-value of a Mann-Whitney U test of the two coordinates' sample-evaluations (censored trials
 //! ranked last); the summary counts the materials on which each coordinate's median is lower.
 
-use brdf_model::published::{NganBlinnPhong, NganCookTorrance, read_fits};
-use brdf_model::{Channel, DataSet, ExponentCoord, Layout, LobeKind, Params, family, synthetic};
+use brdf_io::Channel;
+use brdf_model::{DataSet, ExponentCoord, Layout, LobeKind, Params, family, synthetic};
+use brdf_published::{NganBlinnPhong, NganCookTorrance, read_fits};
 use sls::{
     AlgorithmConfig, BrdfObjective, Budget, DescentLimits, Rows, Search, TrialContext, run_trial,
 };

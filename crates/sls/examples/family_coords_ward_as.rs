@@ -21,10 +21,9 @@
 //! the other on one thread; a trial's run length is its sample-evaluations (the paper's count)
 //! when it first reached the target; censored trials count as +inf in the medians.
 
-use brdf_model::published::{NganAshikhminShirley, NganWard, read_fits};
-use brdf_model::{
-    Channel, ExponentCoord, Layout, LobeKind, Params, Reflectance, family, synthetic,
-};
+use brdf_io::Channel;
+use brdf_model::{ExponentCoord, Layout, LobeKind, Params, Reflectance, family, synthetic};
+use brdf_published::{NganAshikhminShirley, NganWard, read_fits};
 use sls::{
     AedConfig, AlgorithmConfig, BrdfObjective, Budget, DescentLimits, Rows, RplsConfig, Search,
     TrialContext, run_trial,

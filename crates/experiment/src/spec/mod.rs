@@ -17,7 +17,8 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use brdf_model::{Channel, ExponentCoord, FamilyRef, LobeKind, Params};
+use brdf_io::Channel;
+use brdf_model::{ExponentCoord, FamilyRef, LobeKind, Params};
 use serde::{Deserialize, Serialize};
 use sls::{AlgorithmConfig, Budget};
 
@@ -81,7 +82,7 @@ impl SpecError {
 }
 
 /// A data format's name as a spec or flag gives it (`cornell`, `csv`, `merl`, `alta`: the names
-/// of [`brdf_model::Format`], checked when read); stored as written.
+/// of [`brdf_io::Format`], checked when read); stored as written.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 #[serde(transparent)]
 pub struct FormatName(String);
@@ -89,7 +90,7 @@ pub struct FormatName(String);
 impl FormatName {
     /// The name, checked against the formats' names (the error lists them).
     pub fn new(name: &str) -> Result<Self, String> {
-        brdf_model::Format::from_name(name).map_err(|e| e.to_string())?;
+        brdf_io::Format::from_name(name).map_err(|e| e.to_string())?;
         Ok(FormatName(name.trim().to_ascii_lowercase()))
     }
 
@@ -133,7 +134,7 @@ pub struct FileSpec {
     /// only. Left out of the canonical
     /// form when unset.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub param_out: Option<brdf_model::io::AltaOutput>,
+    pub param_out: Option<brdf_io::AltaOutput>,
     /// Drop values above this.
     #[serde(default)]
     pub max_value: Option<f64>,
@@ -166,12 +167,12 @@ impl FileSpec {
         }
     }
 
-    /// The one place a file's format is decided: [`brdf_model::Format`] from `format` (else
+    /// The one place a file's format is decided: [`brdf_io::Format`] from `format` (else
     /// from `path`'s extension, which must be one a format has: never a silent default) with
-    /// this spec's options applied and checked ([`brdf_model::Format::validate`]); an option
+    /// this spec's options applied and checked ([`brdf_io::Format::validate`]); an option
     /// the format does not take is an error naming it.
-    pub fn format_for(&self, path: &Path) -> Result<brdf_model::Format, String> {
-        use brdf_model::Format;
+    pub fn format_for(&self, path: &Path) -> Result<brdf_io::Format, String> {
+        use brdf_io::Format;
         let mut f = match &self.format {
             Some(n) => Format::from_name(n.as_str()).map_err(|e| e.to_string())?,
             None => Format::from_path(path).map_err(|e| e.to_string())?,

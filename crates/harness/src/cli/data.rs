@@ -22,12 +22,12 @@ pub struct DataArgs {
     #[arg(long)]
     pub wavelength: Option<f64>,
     /// Channel of MERL and ALTA RGB files: red, green (default) or blue.
-    #[arg(long, value_parser = enum_value::<brdf_model::Channel>)]
-    pub channel: Option<brdf_model::Channel>,
+    #[arg(long, value_parser = enum_value::<brdf_io::Channel>)]
+    pub channel: Option<brdf_io::Channel>,
     /// What an ALTA file's values are when its header lacks #PARAM_OUT: INV_STERADIAN,
     /// INV_STERADIAN_COSINE_FACTOR or RGB_COLOR.
-    #[arg(long, value_parser = enum_value::<brdf_model::io::AltaOutput>)]
-    pub param_out: Option<brdf_model::io::AltaOutput>,
+    #[arg(long, value_parser = enum_value::<brdf_io::AltaOutput>)]
+    pub param_out: Option<brdf_io::AltaOutput>,
     /// Drop values above this (the paper used 1 for the Cornell paint).
     #[arg(long)]
     pub max_value: Option<f64>,

@@ -164,7 +164,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || brdf_experiment::input_file::is_refused(c)
             || c.is::<brdf_experiment::seed_check::SeedMismatch>()
             || c.is::<brdf_experiment::spec::SpecError>()
-            || c.is::<brdf_model::DataError>()
+            || c.is::<brdf_io::DataError>()
             || c.is::<brdf_model::ModelError>()
             || c.is::<brdf_model::ParamError>()
             || c.is::<sls::ConfigError>()

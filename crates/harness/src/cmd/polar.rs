@@ -254,7 +254,7 @@ pub fn polar(a: PolarArgs) -> Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let wavelength = match a.data.file_spec().format_for(&a.data.data) {
-        Ok(brdf_model::Format::Cornell { wavelength_nm }) => Some(wavelength_nm),
+        Ok(brdf_io::Format::Cornell { wavelength_nm }) => Some(wavelength_nm),
         _ => None,
     };
     let title = a.title.clone().unwrap_or_else(|| {

@@ -23,7 +23,7 @@
 //! view to within 8%. `crates/model/tests/blinn_phong.rs` checks this closed form and its
 //! bounds by quadrature. So `ks` is (nearly) the lobe's albedo at normal view, whatever `p`;
 //! a fit with the `(p + 2) / (2 pi)` factor and scale `a` is this lobe with
-//! `ks = 4 a (p + 2) / (p + 8)` (`brdf_model::published::NganBlinnPhong`).
+//! `ks = 4 a (p + 2) / (p + 8)` (`brdf_published::NganBlinnPhong`).
 //!
 //! # Fields and bounds
 //! - `ks` in [0, 10]: the scale (as the microfacet families'); Ngan's fits convert to at most

@@ -19,7 +19,7 @@
 //!
 //! This is Walter's form `ks D G F / (4 uz vz)`; the paper writes `F D G / (pi uz vz)` with an
 //! unnormalised `D`, which is this lobe with `ks = 4 / pi` times the paper's scale (Ngan's fits
-//! are converted by `brdf_model::published::NganCookTorrance`).
+//! are converted by `brdf_published::NganCookTorrance`).
 //!
 //! # Fields and bounds
 //! - `ks` in [0, 10]: the scale (as GGX's); the published fits reach 1.25 (`4 albedo / pi`).

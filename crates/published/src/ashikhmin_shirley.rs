@@ -25,8 +25,8 @@
 
 use super::convert::take;
 use super::{ConvertError, PublishedFit, channel_index};
-use crate::io::Channel;
-use crate::params::Params;
+use brdf_io::Channel;
+use brdf_model::Params;
 use std::f64::consts::PI;
 
 /// Ngan et al.'s Ashikhmin-Shirley fit of one material, per channel (red, green, blue).
@@ -71,7 +71,8 @@ impl NganAshikhminShirley {
     /// family's bounds ([`super::bounds_violations`] says where).
     pub fn to_params(&self, channel: Channel) -> Params {
         let k = channel_index(channel);
-        let fam = crate::family(crate::models::ashikhmin_shirley::NAME).expect("a built-in family");
+        let fam = brdf_model::family(brdf_model::models::ashikhmin_shirley::NAME)
+            .expect("a built-in family");
         let n = self.n[k];
         let lobe = vec![self.ks[k], n, n, self.f0[k], 0.0];
         Params::new(fam, vec![self.kd[k] / PI], vec![lobe])

@@ -6,13 +6,15 @@
 // Expected values are mpmath's digits as printed, some beyond f64's precision.
 #![allow(clippy::excessive_precision)]
 
+#[path = "../../model/tests/quadrature/mod.rs"]
 mod quadrature;
 
-use brdf_model::published::{
+use brdf_io::Channel;
+use brdf_model::{Params, uniform_hemisphere};
+use brdf_published::{
     ConvertError, FitFile, GGX_PER_BECKMANN, NganBlinnPhong, NganCookTorrance, bounds_violations,
     ggx_alpha_from_beckmann, read_fits,
 };
-use brdf_model::{Channel, Params, uniform_hemisphere};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::f64::consts::PI;

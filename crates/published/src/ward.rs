@@ -21,8 +21,8 @@
 
 use super::convert::take;
 use super::{ConvertError, PublishedFit, channel_index};
-use crate::io::Channel;
-use crate::params::Params;
+use brdf_io::Channel;
+use brdf_model::Params;
 use std::f64::consts::PI;
 
 /// Ngan et al.'s Ward fit of one material, per channel (red, green, blue).
@@ -72,7 +72,7 @@ impl NganWard {
     /// the family's bounds ([`super::bounds_violations`] says where).
     pub fn to_params(&self, channel: Channel) -> Params {
         let k = channel_index(channel);
-        let fam = crate::family(crate::models::ward::NAME).expect("a built-in family");
+        let fam = brdf_model::family(brdf_model::models::ward::NAME).expect("a built-in family");
         let (a, ks) = (self.alpha[k], self.ks[k]);
         Params::new(fam, vec![self.kd[k] / PI], vec![vec![ks, a, a, 0.0]])
             .expect("the Ward family has four lobe fields")

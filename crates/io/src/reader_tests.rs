@@ -2,9 +2,9 @@
 
 /// The cornell reader's tests (apart, since the readers' entry points are in `format`).
 mod cornell {
-    use crate::data::Filters;
-    use crate::io::DataError;
-    use crate::io::format::parse_cornell;
+    use crate::DataError;
+    use crate::format::parse_cornell;
+    use brdf_model::Filters;
     use std::path::Path;
 
     #[test]
@@ -34,9 +34,9 @@ mod cornell {
 
 /// The csv reader's tests (apart, since the readers' entry points are in `format`).
 mod csv {
-    use crate::data::Filters;
-    use crate::io::DataError;
-    use crate::io::format::parse_csv;
+    use crate::DataError;
+    use crate::format::parse_csv;
+    use brdf_model::Filters;
     use std::path::Path;
 
     fn p() -> &'static Path {
@@ -93,8 +93,8 @@ mod csv {
 
     #[test]
     fn csv_round_trip() {
-        let params = crate::named_params("cross").unwrap();
-        let d = crate::synthetic(&params, 50, 0.1, 9);
+        let params = brdf_model::named_params("cross").unwrap();
+        let d = brdf_model::synthetic(&params, 50, 0.1, 9);
         let mut buf = Vec::new();
         d.write_csv(&mut buf).unwrap();
         let (back, _) =

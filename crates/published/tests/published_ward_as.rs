@@ -2,8 +2,8 @@
 //! bbm's formulas (as docs/published-fits.md gives them) evaluated here independently at many
 //! directions, and the materials outside the families' bounds (none).
 
-use brdf_model::Channel;
-use brdf_model::published::{
+use brdf_io::Channel;
+use brdf_published::{
     ConvertError, FitFile, NganAshikhminShirley, NganWard, bounds_violations, read_fits,
 };
 use std::f64::consts::PI;

@@ -4,7 +4,7 @@
 //! `BRDF_SLS_ALTA_DATA=/tmp/alta-data cargo test -p brdf-model --test alta_data`; without it
 //! each test prints a note and passes.
 
-use brdf_model::io::{AltaOutput, DataError, Format, read};
+use brdf_io::{AltaOutput, DataError, Format, read};
 use brdf_model::{DataSet, Filters};
 use std::path::PathBuf;
 

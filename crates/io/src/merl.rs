@@ -3,7 +3,7 @@
 use super::FormatError;
 use super::limits::{MAX_MERL_BYTES, MAX_MERL_DIM};
 use super::{DataError, dir_from_angles, io_err, open};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::io::Read;
 use std::path::Path;

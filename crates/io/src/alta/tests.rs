@@ -2,7 +2,7 @@
 //! the cosine factor, channels, and every header and row error.
 
 use super::*;
-use crate::io::{Format, parse};
+use crate::{Format, parse};
 use std::path::Path;
 
 const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;

@@ -3,11 +3,12 @@
 //! normalised form evaluated directly, and against the Table 1 box), the data's SHA-256 sums
 //! against the folder's README, and `docs/published-fits.md`'s generated tables.
 
-use brdf_model::published::{
+use brdf_io::Channel;
+use brdf_model::BrdfParams;
+use brdf_published::{
     ConvertError, FIT_FILES, FitError, FitFile, MAX_FIT_BYTES, MAX_FIT_DEPTH, MAX_FIT_ITEMS,
     MAX_FIT_LINE_BYTES, NganLafortune, parse_fits, read_fits, report_markdown, table1_violations,
 };
-use brdf_model::{BrdfParams, Channel};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
@@ -248,7 +249,7 @@ fn limits_are_enforced() {
     assert!(parse_err(&format!("m = {name}(a = 1)")).contains("(MAX_FIT_NAME_BYTES)"));
     let big = "#\n".repeat(MAX_FIT_BYTES as usize / 2 + 1);
     assert!(parse_err(&big).contains("(MAX_FIT_BYTES)"));
-    let lines: String = (0..=brdf_model::published::MAX_FIT_MATERIALS)
+    let lines: String = (0..=brdf_published::MAX_FIT_MATERIALS)
         .map(|i| format!("m{i} = M(a = 1)\n"))
         .collect();
     assert!(parse_err(&lines).contains("(MAX_FIT_MATERIALS)"));

@@ -4,7 +4,7 @@
 
 use super::limits::{MAX_INPUT_BYTES, MAX_LINE_BYTES, MAX_SAMPLES, sample_limit};
 use super::{DataError, io_err};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::io::{BufRead, Read};
 use std::path::Path;
 

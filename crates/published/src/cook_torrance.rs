@@ -20,10 +20,10 @@
 //! Fresnel term with an index of refraction, which Schlick's approximation does not reproduce.
 
 use super::{ConvertError, PublishedFit, channel_index};
-use crate::io::Channel;
-use crate::models::{cook_torrance, ggx};
-use crate::params::Params;
-use crate::registry::family;
+use brdf_io::Channel;
+use brdf_model::Params;
+use brdf_model::family;
+use brdf_model::models::{cook_torrance, ggx};
 use std::f64::consts::PI;
 
 /// bbm's name of the model.

@@ -5,7 +5,7 @@
 
 use super::{FitError, FitFile};
 use super::{NganLafortune, PublishedFit, read_fits, table1_violations};
-use crate::io::Channel;
+use brdf_io::Channel;
 use std::fmt::Write as _;
 use std::path::Path;
 

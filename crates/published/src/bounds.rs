@@ -1,9 +1,9 @@
 //! Where a converted parameter set of any family leaves the family's bounds.
 
 use super::BoxViolation;
-use crate::params::Params;
+use brdf_model::Params;
 
-/// Every field of `p` outside its family's bounds ([`crate::FieldDef::bounds`]) or not finite,
+/// Every field of `p` outside its family's bounds ([`brdf_model::FieldDef::bounds`]) or not finite,
 /// in canonical order (`kd`, then each lobe's fields). [`Params::validate`] stops at the first;
 /// this lists them all.
 pub fn bounds_violations(p: &Params) -> Vec<BoxViolation> {

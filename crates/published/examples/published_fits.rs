@@ -1,6 +1,6 @@
 //! Prints the generated tables of `docs/published-fits.md`: every published fit file's
 //! parameter ranges and flagged values, the Lafortune conversion's statistics and the
-//! lobe-shape check (`brdf_model::published::report_markdown`).
+//! lobe-shape check (`brdf_published::report_markdown`).
 //!
 //! `cargo run -p brdf-model --example published_fits [DIR]`; DIR defaults to
 //! `experiments/data/published-fits` of this repository.
@@ -14,7 +14,7 @@ fn main() {
         .unwrap_or_else(|| {
             PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../experiments/data/published-fits")
         });
-    match brdf_model::published::report_markdown(&dir) {
+    match brdf_published::report_markdown(&dir) {
         Ok(text) => print!("{text}"),
         Err(e) => {
             eprintln!("error: {e}");

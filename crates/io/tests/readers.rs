@@ -1,8 +1,7 @@
 //! Reader tests on the real Cornell files, on a MERL file written here, and on malformed input.
 
-use brdf_model::{
-    Channel, DataError, DataSet, Filters, MerlBrdf, named_params, read_cornell, read_csv, read_merl,
-};
+use brdf_io::{Channel, DataError, MerlBrdf, read_cornell, read_csv, read_merl};
+use brdf_model::{DataSet, Filters, named_params};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -182,7 +181,7 @@ fn merl_small_file_lookup_and_grid() {
 /// quick errors naming the file, the line and the limit (no allocation abort, no hang).
 #[test]
 fn limits_give_quick_clear_errors() {
-    use brdf_model::io::{MAX_LINE_BYTES, MAX_WAVELENGTHS};
+    use brdf_io::{MAX_LINE_BYTES, MAX_WAVELENGTHS};
     let dir = tempfile::tempdir().unwrap();
     let huge = dir.path().join("huge.brdf");
     std::fs::write(&huge, "# fuzz\n4000000000\n550\n0 0 0 0 1\n").unwrap();
@@ -250,11 +249,11 @@ fn csv_extra_columns_are_ignored_and_repeated_names_refused() {
     let text = "note, theta_i,phi_i,theta_o,phi_o,value,comment\n\
                 krylon,10,0,20,180,0.5,\"hello\"\n\
                 ,10,0,20,180,0.25,\n";
-    let (d, rep) = brdf_model::parse_csv(text, p, &Filters::default()).unwrap();
+    let (d, rep) = brdf_io::parse_csv(text, p, &Filters::default()).unwrap();
     assert_eq!((d.len(), rep.read), (2, 2));
     assert_eq!(d.values(), &[0.5, 0.25]);
     // Rows still need the header's field count.
-    let e = brdf_model::parse_csv(
+    let e = brdf_io::parse_csv(
         "ux,uy,uz,vx,vy,vz,value,w\n0,0,1,0,0,1,1\n",
         p,
         &Filters::default(),
@@ -265,8 +264,8 @@ fn csv_extra_columns_are_ignored_and_repeated_names_refused() {
             .contains("x.csv:2: expected 8 comma-separated"),
         "{e}"
     );
-    let e = brdf_model::parse_csv("ux,uy,uz,vx,vy,vz,value,value\n", p, &Filters::default())
-        .unwrap_err();
+    let e =
+        brdf_io::parse_csv("ux,uy,uz,vx,vy,vz,value,value\n", p, &Filters::default()).unwrap_err();
     assert!(e.to_string().contains("`value` is repeated"), "{e}");
 }
 
@@ -279,16 +278,16 @@ fn non_finite_values_are_counted_and_dropped() {
                 0,0,1,0,0,1,inf\n\
                 0,0,1,inf,0,1,0.5\n\
                 1e300,1e300,1e300,0,0,1e-300,-0.01\n";
-    let (d, rep) = brdf_model::parse_csv(text, p, &Filters::default()).unwrap();
+    let (d, rep) = brdf_io::parse_csv(text, p, &Filters::default()).unwrap();
     assert_eq!((rep.read, rep.non_finite, rep.kept), (4, 3, 1));
     // Huge and tiny components normalise without overflow; the negative value is kept.
     let s = 1.0 / 3f64.sqrt();
     assert!(d.u(0).iter().all(|c| (c - s).abs() < 1e-15), "{:?}", d.u(0));
     assert_eq!(d.v(0), [0.0, 0.0, 1.0]);
     assert_eq!(d.value(0), -0.01);
-    let (_, rep) = brdf_model::parse_csv(text, p, &Filters::paper()).unwrap();
+    let (_, rep) = brdf_io::parse_csv(text, p, &Filters::paper()).unwrap();
     assert_eq!((rep.non_finite, rep.negative, rep.kept), (3, 1, 0));
-    let (all, _) = brdf_model::parse_csv(text, p, &Filters::none()).unwrap();
+    let (all, _) = brdf_io::parse_csv(text, p, &Filters::none()).unwrap();
     assert_eq!(all.len(), 4);
     assert!(all.value(0).is_nan());
 }

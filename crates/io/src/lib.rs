@@ -1,4 +1,5 @@
-//! Readers for measured data.
+//! Readers for measured reflectance data: Cornell, CSV, MERL and ALTA files, read into
+//! [`brdf_model::DataSet`]s under the one data policy ([`brdf_model::Filters`]).
 //!
 //! # One entry point
 //! A data format and its options are one value, [`Format`]: `Cornell { wavelength_nm }`,
@@ -132,6 +133,8 @@
 //! here; `scripts/fetch-alta-data.sh DIR` downloads them and checks their SHA-256
 //! (`docs/model.md` lists them).
 
+#![warn(missing_docs)]
+
 mod alta;
 mod cornell;
 mod csv;
@@ -154,7 +157,7 @@ pub use limits::{
 pub use merl::{Channel, MerlBrdf};
 
 #[cfg(doc)]
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::path::{Path, PathBuf};
 
 /// Errors reading a data file. Each names the file; parse errors also name the line (from 1)
@@ -276,7 +279,7 @@ pub enum FormatError {
 
 /// Normalises a direction given by finite or non-finite components: `Ok(None)` for a zero
 /// vector, non-finite components are passed through (the filters count them).
-pub(super) fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
+pub(crate) fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {
     if a.iter().any(|c| !c.is_finite()) {
         return Some(a);
     }
@@ -306,3 +309,6 @@ fn dir_from_angles(theta: f64, phi: f64) -> [f64; 3] {
     let (sp, cp) = phi.sin_cos();
     [st * cp, st * sp, ct]
 }
+
+/// Default wavelength (nm) for Cornell files, as in the paper.
+pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;

@@ -9,7 +9,7 @@ use super::limits::check_text_len;
 use super::lines::LineSource;
 use super::merl::{Channel, MerlBrdf};
 use super::{DataError, FormatError, open};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::io::BufRead;
@@ -375,7 +375,7 @@ pub fn read_merl(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::{read_cornell, read_merl};
+    use crate::{read_cornell, read_merl};
 
     fn alta() -> Format {
         Format::Alta {

@@ -1,8 +1,8 @@
-//! The CSV reader (vector or angle columns; format in the [`io`](crate::io) module docs).
+//! The CSV reader (vector or angle columns; format in the crate docs).
 
 use super::lines::{LineSource, Sample, read_samples, short};
 use super::{DataError, dir_from_angles, normalise};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 
 pub(super) fn csv_from<R: BufRead>(

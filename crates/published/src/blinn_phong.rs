@@ -16,10 +16,10 @@
 
 use super::cook_torrance::{invalid, take};
 use super::{ConvertError, PublishedFit, channel_index};
-use crate::io::Channel;
-use crate::models::blinn_phong;
-use crate::params::Params;
-use crate::registry::family;
+use brdf_io::Channel;
+use brdf_model::Params;
+use brdf_model::family;
+use brdf_model::models::blinn_phong;
 use std::f64::consts::PI;
 
 /// Ngan et al.'s Blinn-Phong fit of one material, per channel (red, green, blue).

@@ -20,9 +20,9 @@
 //! the same `n`, no pan, and the constant term `kd = kd_c / pi`.
 
 use super::{PublishedFit, channel_index};
-use crate::io::Channel;
-use crate::lafortune::{BrdfParams, Lobe};
-use crate::lafortune::{C_BOUNDS, KD_BOUNDS, N_BOUNDS, PAN_BOUNDS};
+use brdf_io::Channel;
+use brdf_model::lafortune::{BrdfParams, Lobe};
+use brdf_model::lafortune::{C_BOUNDS, KD_BOUNDS, N_BOUNDS, PAN_BOUNDS};
 use std::f64::consts::PI;
 
 /// The channel used when none is given: green, as for MERL files elsewhere in the project.

@@ -1,11 +1,11 @@
-//! The ALTA text reader (format, parameterisations and conversions in the [`io`](crate::io)
+//! The ALTA text reader (format, parameterisations and conversions in the crate
 //! module docs): [`AltaInput`], [`AltaOutput`] and the header and sample parsing behind
 //! [`Format::Alta`](super::Format::Alta).
 
 use super::lines::{LineSource, Sample, read_samples, short};
 use super::merl::Channel;
 use super::{DEFAULT_CHANNEL, DataError, dir_from_angles, normalise};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 
 /// Smallest incident cosine `cos(theta_in)` by which an `INV_STERADIAN_COSINE_FACTOR` value is

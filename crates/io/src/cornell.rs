@@ -1,9 +1,9 @@
-//! The Cornell text reader (`*.brdf`; format in the [`io`](crate::io) module docs).
+//! The Cornell text reader (`*.brdf`; format in the crate docs).
 
 use super::limits::MAX_WAVELENGTHS;
 use super::lines::{LineSource, Sample, read_samples, short};
 use super::{DataError, dir_from_angles};
-use crate::data::{DataSet, FilterReport, Filters};
+use brdf_model::{DataSet, FilterReport, Filters};
 use std::io::BufRead;
 
 pub(super) fn cornell_from<R: BufRead>(

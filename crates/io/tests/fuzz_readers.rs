@@ -8,12 +8,11 @@
 //! properties with `PROPTEST_CASES` set (one million executions or more in total); each
 //! property prints `FUZZ <name>: <n> executions` (visible with `--nocapture`).
 
-use brdf_model::io::{AltaInput, AltaOutput, Format, MAX_WAVELENGTHS};
-use brdf_model::params::ParamError;
-use brdf_model::{
-    BrdfParams, DataError, DataSet, FilterReport, Filters, MAX_SAMPLES, MerlBrdf, parse_cornell,
-    parse_csv, try_synthetic,
+use brdf_io::{
+    AltaInput, AltaOutput, DataError, Format, MAX_WAVELENGTHS, MerlBrdf, parse_cornell, parse_csv,
 };
+use brdf_model::params::ParamError;
+use brdf_model::{BrdfParams, DataSet, FilterReport, Filters, MAX_SAMPLES, try_synthetic};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use std::cell::Cell;
@@ -272,9 +271,9 @@ fn alta_format() -> impl Strategy<Value = Format> {
     let channel = prop_oneof![
         2 => Just(None),
         1 => prop::sample::select(vec![
-            brdf_model::Channel::Red,
-            brdf_model::Channel::Green,
-            brdf_model::Channel::Blue,
+            brdf_io::Channel::Red,
+            brdf_io::Channel::Green,
+            brdf_io::Channel::Blue,
         ])
         .prop_map(Some),
     ];
@@ -299,7 +298,7 @@ fn fuzz_parse_alta() {
         (text, alta_format(), filters()),
         |(t, format, f)| {
             check_read(
-                brdf_model::io::parse(t.as_bytes(), path, &format, &f),
+                brdf_io::parse(t.as_bytes(), path, &format, &f),
                 "fuzz.alta",
                 &f,
             )
@@ -351,9 +350,9 @@ fn fuzz_merl_from_bytes() {
                 prop_assert_eq!(m.table.len(), 3 * n);
                 prop_assert_eq!(m.to_bytes(), b);
                 for ch in [
-                    brdf_model::Channel::Red,
-                    brdf_model::Channel::Green,
-                    brdf_model::Channel::Blue,
+                    brdf_io::Channel::Red,
+                    brdf_io::Channel::Green,
+                    brdf_io::Channel::Blue,
                 ] {
                     let (d, rep) = m.sample_grid(ch, &f);
                     check_read(Ok((d, rep)), "", &f)?;

@@ -1,7 +1,7 @@
 //! Published per-material BRDF fits of the MERL materials: a reader for bbm's `.fit` files and
 //! the conversions of Ngan et al.'s fits into this crate's parameters: Lafortune
 //! ([`BrdfParams`]), Cook-Torrance ([`NganCookTorrance`]), Blinn-Phong ([`NganBlinnPhong`]),
-//! Ward ([`NganWard`]) and Ashikhmin-Shirley ([`NganAshikhminShirley`]) as [`crate::Params`] of
+//! Ward ([`NganWard`]) and Ashikhmin-Shirley ([`NganAshikhminShirley`]) as [`brdf_model::Params`] of
 //! those families; [`bounds_violations`] lists what falls outside a family's bounds.
 //!
 //! The files in `experiments/data/published-fits/` come from the BSD-licensed repository
@@ -46,7 +46,7 @@
 //!
 //! # Example
 //! ```
-//! use brdf_model::published::{NganLafortune, parse_fits};
+//! use brdf_published::{NganLafortune, parse_fits};
 //! let text = "m = Aggregate(Lambertian(albedo = [0.1, 0.2, 0.3]), \
 //!             NganLafortune(albedo = [0.5, 0.4, 0.3], Cxy = -0.577, Cz = 0.577, sharpness = 100.0))";
 //! let file = parse_fits(text, "example.fit").unwrap();
@@ -57,7 +57,9 @@
 //! assert!((params.kd - 0.2 / std::f64::consts::PI).abs() < 1e-15); // green channel
 //! ```
 //!
-//! [`BrdfParams`]: crate::BrdfParams
+//! [`BrdfParams`]: brdf_model::BrdfParams
+
+#![warn(missing_docs)]
 
 mod ashikhmin_shirley;
 mod blinn_phong;
@@ -83,7 +85,7 @@ pub use parse::{
 pub use report::{FIT_FILES, ParamSummary, report_markdown, summarise};
 pub use ward::NganWard;
 
-use crate::io::Channel;
+use brdf_io::Channel;
 
 /// One material's published fit: the material, the model and its parameters per channel.
 #[derive(Clone, Debug, PartialEq)]

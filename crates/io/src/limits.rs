@@ -2,7 +2,7 @@
 
 use super::DataError;
 #[cfg(doc)]
-use crate::data::DataSet;
+use brdf_model::DataSet;
 use std::path::Path;
 
 /// Largest text input (Cornell, CSV, ALTA) read, in bytes: 1 GiB. A longer input is refused with
@@ -13,9 +13,9 @@ pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// Most sample rows a reader accepts (counted before filtering; also the largest synthetic
-/// instance, see [`crate::try_synthetic`]): 10,000,000 (about 560 MB as a [`DataSet`]).
+/// instance, see [`brdf_model::try_synthetic`]): 10,000,000 (about 560 MB as a [`DataSet`]).
 /// The full MERL grid has 1,458,000 cells, the paper's instances 10,000 samples.
-pub const MAX_SAMPLES: usize = crate::data::MAX_SAMPLES;
+pub const MAX_SAMPLES: usize = brdf_model::MAX_SAMPLES;
 
 /// Most wavelengths a Cornell file may declare: 10,000 (the real files have 31).
 pub const MAX_WAVELENGTHS: usize = 10_000;
