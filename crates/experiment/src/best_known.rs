@@ -89,8 +89,9 @@ pub(crate) fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f
     polish_counting(cx, x).0
 }
 
-/// [`polish`], also returning the number of descents made.
-pub(crate) fn polish_counting<O: sls::Objective>(
+/// Descends from `x` until a descent gains less than 1e-12 relative; returns the RMSE and the
+/// number of descents made (what `brdf-fit` polishes a fit with).
+pub fn polish_counting<O: sls::Objective>(
     cx: &mut TrialContext<'_, O>,
     x: &mut [f64],
 ) -> (f64, usize) {

@@ -1,5 +1,5 @@
 //! The experiments of brdf-sls: TOML experiment specs, seeded trials run in parallel, a
-//! crash-safe results store, and one fit of one data set.
+//! crash-safe results store.
 //!
 //! - [`spec`]: experiment specs (the format: `docs/experiment-format.md`) read in stages: the
 //!   TOML as parsed, validation with stated [`spec::limits`], sweep expansion, the resolved
@@ -26,7 +26,6 @@
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 //! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
-//! - [`fit`]: one fit of one data set (what `brdf-sls fit` and the Python package share).
 //! - [`python_kind`]: `kind = "python"`, algorithms written in Python, as specs and results
 //!   name them.
 #![warn(missing_docs)]
@@ -50,7 +49,7 @@ pub mod best_known;
 pub mod best_known_record;
 pub mod choice;
 pub mod duration;
-pub mod fit;
+
 pub mod input_file;
 pub mod instance;
 pub mod machine;

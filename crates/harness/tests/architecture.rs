@@ -37,7 +37,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-io"],
     &["sls", "brdf-graphics", "brdf-stress", "brdf-published"],
     &["brdf-experiment"],
-    &["brdf-analysis", "brdf-tune"],
+    &["brdf-analysis", "brdf-tune", "brdf-fit"],
     &["brdf-bench"],
     &["harness", "brdf-sls-py"],
 ];

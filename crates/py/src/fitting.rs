@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use brdf_experiment::fit::{FitError, FitOutcome, FitRequest, Surface};
+use brdf_fit::{FitError, FitOutcome, FitRequest, Surface};
 use brdf_model::Kernel;
 use numpy::PyArray1;
 use pyo3::exceptions::PyKeyboardInterrupt;
@@ -55,9 +55,9 @@ pub fn fit(
     config: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
-    brdf_experiment::fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
+    brdf_fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
     let algorithm =
-        brdf_experiment::fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
+        brdf_fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
             .map_err(input_err)?;
     let model = crate::support::model_spec(family, lobes, kind, exponent, fixed)?;
     let kernel: Kernel = kernel.parse().map_err(input_err)?;
@@ -72,12 +72,12 @@ pub fn fit(
         kernel,
         descent,
         polish,
-        progress: brdf_experiment::fit::FitProgress::Quiet,
+        progress: brdf_fit::FitProgress::Quiet,
         surface: Surface::Python,
     };
     let (outcome, failure) = interruptible(py, |flag| {
         let outcome = crate::algorithm::with_cpu_cutoff(Some(cpu_seconds), || {
-            brdf_experiment::fit::fit(data, &request, Some(flag))
+            brdf_fit::fit(data, &request, Some(flag))
         });
         // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
         (outcome, crate::algorithm::take_failure())
@@ -107,7 +107,7 @@ fn data_arg(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Arc<brdf_model:
         .map_err(|_| input_err("data: expected a DataSet or the path of a data file"))?;
     let fs = brdf_experiment::spec::FileSpec::plain(path);
     let (d, _) = py
-        .detach(|| brdf_experiment::fit::load_non_empty(&fs))
+        .detach(|| brdf_fit::load_non_empty(&fs))
         .map_err(input_err)?;
     Ok(Arc::new(d))
 }

@@ -203,8 +203,8 @@ pub fn model_spec(
         }
         None => family.kinds()[0],
     };
-    brdf_experiment::fit::model_spec(
-        brdf_experiment::fit::Surface::Python,
+    brdf_fit::model_spec(
+        brdf_fit::Surface::Python,
         family,
         lobes,
         kind,

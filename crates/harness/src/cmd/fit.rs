@@ -4,10 +4,8 @@
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use brdf_experiment::fit::{
-    FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec,
-};
 use brdf_experiment::progress::ProgressMode;
+use brdf_fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
 
 use super::shared::load_non_empty;
 use super::{input_error, say};
@@ -47,7 +45,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         progress: fit_progress(a.progress),
         surface: Surface::Cli,
     };
-    let fit = brdf_experiment::fit::fit(data.clone(), &request, None)?;
+    let fit = brdf_fit::fit(data.clone(), &request, None)?;
     let (r, layout) = (&fit.result, &fit.layout);
     say!(
         "algorithm {} (seed {}, kernel {}, descent {}, brdf-sls {}), stop: {:?}",

@@ -169,7 +169,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<brdf_model::ParamError>()
             || c.is::<sls::ConfigError>()
             || c.is::<brdf_model::KernelError>()
-            || c.downcast_ref::<brdf_experiment::fit::FitError>()
+            || c.downcast_ref::<brdf_fit::FitError>()
                 .is_some_and(|f| f.is_input_error())
             || matches!(
                 c.downcast_ref::<brdf_experiment::run::RunError>(),

@@ -27,7 +27,7 @@ pub fn default_out(spec: Option<&Path>) -> PathBuf {
 /// Loads the data set the flags name, under the shared data policy (see [`DataArgs`]), and
 /// reports what the filters dropped on standard error.
 pub fn load_data(args: &DataArgs) -> Result<(DataSet, FilterReport)> {
-    let (data, rep) = brdf_experiment::fit::load_data(&args.file_spec())?;
+    let (data, rep) = brdf_fit::load_data(&args.file_spec())?;
     note!(
         "{}: {} samples kept ({rep})",
         args.data.display(),

@@ -5,6 +5,8 @@
 //! Error messages name the arguments as the caller's [`Surface`] spells them: the command
 //! line's flags (`--cpu-seconds 0`) or the Python keyword arguments (`cpu_seconds=0`).
 
+#![warn(missing_docs)]
+
 mod watch;
 
 use std::path::Path;
@@ -17,7 +19,7 @@ use brdf_model::{
 };
 use sls::{AlgorithmConfig, Objective, Search, StopReason, TrialContext, TrialResult};
 
-use crate::spec::{FileSpec, ModelSpec};
+use brdf_experiment::spec::{FileSpec, ModelSpec};
 
 pub use watch::FitProgress;
 
@@ -151,7 +153,7 @@ pub fn model_spec(
     exponent: ExponentCoord,
     fixed: impl IntoIterator<Item = (String, f64)>,
 ) -> Result<ModelSpec, FitError> {
-    let max = crate::spec::limits::MAX_LOBES;
+    let max = brdf_experiment::spec::limits::MAX_LOBES;
     if !(1..=max).contains(&lobes) {
         return Err(input(format!(
             "{}: expected 1 to {max}",
@@ -298,7 +300,7 @@ fn polish(
     let mut x = result.best_x.clone();
     // The start is the first evaluation, so the polished best is never above it.
     let rmse_before = cx.evaluate(&x).map_err(|_| FitError::Interrupted)?;
-    let (_, descents) = crate::best_known::polish_counting(&mut cx, &mut x);
+    let (_, descents) = brdf_experiment::best_known::polish_counting(&mut cx, &mut x);
     if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
         return Err(FitError::Interrupted);
     }
@@ -366,7 +368,7 @@ pub fn load_data(fs: &FileSpec) -> Result<(DataSet, FilterReport), FitError> {
         )));
     }
     // Every data error begins with the file's path.
-    crate::instance::load_file(fs, path).map_err(|e| input(format!("reading {e}")))
+    brdf_experiment::instance::load_file(fs, path).map_err(|e| input(format!("reading {e}")))
 }
 
 /// [`load_data`], refusing a data set that the filters left empty.
