@@ -1,13 +1,14 @@
 //! The GGX lobe in double-double, written from the formula in `brdf_model::models::ggx` (the
 //! textbook order of operations: the half vector normalised here, the rotation by the pan
 //! angle, `D`, the separable Smith `G1` and Schlick's Fresnel), independently of the kernels'
-//! rearrangements.
+//! rearrangements; `u.h` of the directions normalised ([`super::cos_half`]).
 
 use crate::dd::{DD, DEG};
 
 /// Fields: `ks, ax, ay, f0, pan` (degrees).
 pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     let (ks, ax, ay, f0, pan) = (f[0], f[1], f[2], f[3], f[4]);
+    let uh = super::cos_half(u, v);
     let u: [DD; 3] = u.map(DD::new);
     let v: [DD; 3] = v.map(DD::new);
     let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
@@ -24,7 +25,6 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
         let l = (w[2] * w[2] + ax * ax * wx * wx + ay * ay * wy * wy).sqrt();
         DD::new(2.0) / (w[2] + l)
     };
-    let uh = u[0] * h[0] + u[1] * h[1] + u[2] * h[2];
     let q = DD::ONE - uh;
     let q5 = q * q * q * q * q;
     let fresnel = f0 + (DD::ONE - f0) * q5;

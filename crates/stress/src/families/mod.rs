@@ -5,9 +5,9 @@
 //! seeded batches draw one layout (one anisotropic lobe, one isotropic lobe, two lobes), one
 //! point `x` in the optimiser's coordinates from a [`FamilyRegime`] and [`BATCH`] direction
 //! pairs. The values are compared with the family's formula evaluated in double-double
-//! arithmetic ([`crate::dd`]); each Jacobian column with central differences of that formula
-//! in double-double (step `1e-9 (1 + |x_j|)`, so truncation and rounding stay below 1e-16
-//! relative), scaled by the column's largest reference entry (at least [`VALUE_FLOOR`]).
+//! arithmetic ([`crate::dd`]); each Jacobian column with five-point differences of that
+//! formula in double-double (step [`STEP`]` (1 + |x_j|)`), scaled by the column's largest
+//! reference entry (at least [`VALUE_FLOOR`]).
 //! Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are compared absolutely. A
 //! kernel that reports a failed evaluation where the reference is finite and below `f64::MAX`
 //! (or the other way round) counts as a mismatch: a family whose value on the horizon is
@@ -33,6 +33,16 @@ use serde::{Deserialize, Serialize};
 /// Direction pairs per batch.
 pub const BATCH: usize = 32;
 
+/// The step of the reference's differences, relative to `1 + |x_j|`. The five-point stencil
+/// `(8 (f(x + h) - f(x - h)) - (f(x + 2h) - f(x - 2h))) / (12 h)` truncates at about
+/// `h^4 f^(5) / 30`: for a Gaussian lobe `exp(-T)`, `(T' h)^4 / 30` relative with `T'` the
+/// exponent's derivative by the coordinate (up to about 250 per degree of pan for a lobe of
+/// roughness 0.001 turned by 90 degrees, 1400 per unit of `ln m`), 1e-20 at this step; the
+/// central difference it replaced truncated at `(T' h)^2 / 6`, up to 8e-11 of a pan column.
+/// Rounding: double-double values are good to about 1e-29 relative, so `1.5e-29 f / h`,
+/// below 1e-19 of `f` and 2e-10 of the smallest column scale (`1e-10` of the largest value).
+pub const STEP: f64 = 1e-9;
+
 /// Values below this are compared absolutely (the relative error is taken against it), and
 /// it is the smallest scale of a Jacobian column. The kernels' `exp` gives 0 below `e^-690`
 /// (`brdf_model::lobes::EXP_CUT`) where double-double still has a value (down to `e^-746`),
@@ -43,6 +53,28 @@ pub const VALUE_FLOOR: f64 = 1e-250;
 /// A family's lobe in double-double: `fields` are the lobe's physical field values (the
 /// family's order), `u` and `v` the directions.
 pub type LobeReference = fn(fields: &[DD], u: [f64; 3], v: [f64; 3]) -> DD;
+
+/// `u.h` (`= v.h`) of the directions normalised in double-double: `u` and `v` are unit only to
+/// rounding, and the formulas' `u.h` is defined for unit vectors. Of the raw `f64` directions,
+/// `u.h` and `v.h` differ by `(|u|^2 - |v|^2) / (2 |u + v|)`, up to 1e-10 relative near grazing
+/// back-scatter (`u.h` small, where a lobe divides by it), and `1 - u.h` moves by about
+/// `(|u|^2 + |v|^2 - 2) / 4` absolute, up to 1e-11 relative of Fresnel's `(1 - u.h)^5` near
+/// retro-reflection: both are sensitivities to the rounding of the directions' lengths, not
+/// errors of a kernel (the kernels compute `u.h = |u + v| / 2` and `1 - u.h = |u - v|^2 /
+/// (2 (2 + |u + v|))`, identities of unit vectors that agree with this to a few ulps). The
+/// half vector's direction is taken from the raw sum `u + v` in the references as in the
+/// kernels: its direction is what sharp lobes are sensitive to, and the sum is the input.
+pub(crate) fn cos_half(u: [f64; 3], v: [f64; 3]) -> DD {
+    let unit = |w: [f64; 3]| {
+        let w = w.map(DD::new);
+        let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        [w[0] / l, w[1] / l, w[2] / l]
+    };
+    let (u, v) = (unit(u), unit(v));
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    let l = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    (u[0] * s[0] + u[1] * s[1] + u[2] * s[2]) / l
+}
 
 /// The families with a double-double reference, by name.
 pub fn references() -> Vec<(&'static str, LobeReference)> {
@@ -122,24 +154,18 @@ pub fn run(batches: usize, seed: u64) -> FamilySection {
     let mut stats = Vec::new();
     for (fi, (name, reference)) in references().into_iter().enumerate() {
         let fam = family(name).expect("a registered family");
-        let per_batch: Vec<Vec<FamilyKernelStats>> = (0..batches)
-            .into_par_iter()
-            .map(|b| {
-                batch(
-                    &fam,
-                    reference,
-                    derive_seed(seed, 40 + fi as u64, b as u64),
-                    b,
-                )
-            })
-            .collect();
+        let per_batch = run_family(&fam, reference, fi, batches, seed);
         for k in Kernel::available() {
             let mut s = FamilyKernelStats {
                 family: name.to_string(),
                 kernel: k.name().to_string(),
                 ..FamilyKernelStats::default()
             };
-            for one in per_batch.iter().flatten().filter(|o| o.kernel == k.name()) {
+            for (one, _) in per_batch
+                .iter()
+                .flatten()
+                .filter(|o| o.0.kernel == k.name())
+            {
                 s.values += one.values;
                 s.max_value_error = s.max_value_error.max(one.max_value_error);
                 s.max_jacobian_error = s.max_jacobian_error.max(one.max_jacobian_error);
@@ -150,6 +176,121 @@ pub fn run(batches: usize, seed: u64) -> FamilySection {
         }
     }
     FamilySection { batches, stats }
+}
+
+/// The batches of one family (`fi` its index in [`references`]), in parallel.
+fn run_family(
+    fam: &FamilyRef,
+    reference: LobeReference,
+    fi: usize,
+    batches: usize,
+    seed: u64,
+) -> Vec<Vec<(FamilyKernelStats, Where)>> {
+    (0..batches)
+        .into_par_iter()
+        .map(|b| batch(fam, reference, family_seed(seed, fi, b), b).0)
+        .collect()
+}
+
+fn family_seed(seed: u64, fi: usize, b: usize) -> u64 {
+    derive_seed(seed, 40 + fi as u64, b as u64)
+}
+
+/// Where one kernel's largest errors of a batch are: the sample of the largest value error,
+/// and the column and sample of the largest Jacobian error.
+#[derive(Clone, Copy, Debug, Default)]
+struct Where {
+    value_sample: usize,
+    jacobian: (usize, usize),
+}
+
+/// One of the largest errors of a family, located (see [`trace`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TracedError {
+    /// The error, as the section measures it.
+    pub error: f64,
+    /// The batch (its regime and layout follow from it).
+    pub batch: usize,
+    /// The batch's regime.
+    pub regime: FamilyRegime,
+    /// The layout's lobe kinds.
+    pub kinds: Vec<LobeKind>,
+    /// The point in the optimiser's coordinates.
+    pub x: Vec<f64>,
+    /// The point's physical fields, as the family's JSON.
+    pub params: String,
+    /// The Jacobian column's free parameter (`None` for a value error).
+    pub column: Option<String>,
+    /// The incident and exitant direction of the sample.
+    pub u: [f64; 3],
+    /// The exitant direction.
+    pub v: [f64; 3],
+    /// The kernel's value (or Jacobian entry).
+    pub kernel: f64,
+    /// The reference's value (or central difference).
+    pub reference: f64,
+    /// The scale the error is relative to (the reference value, the floor, or the column's
+    /// largest reference entry).
+    pub scale: f64,
+}
+
+/// The largest value and Jacobian errors of one family and kernel, located.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FamilyTrace {
+    /// The family.
+    pub family: String,
+    /// The kernel.
+    pub kernel: String,
+    /// The `top` largest value errors, largest first (one per batch).
+    pub values: Vec<TracedError>,
+    /// The `top` largest Jacobian errors, largest first (one per batch).
+    pub jacobians: Vec<TracedError>,
+}
+
+/// Runs the section as [`run`] does (the same batches for the same `batches` and `seed`) and
+/// locates, per family and kernel, the batches of the `top` largest value and Jacobian
+/// errors: the regime, the layout, the point and the direction pair of each, so that an
+/// excess can be traced to its cause (`examples/families_full.rs` prints them).
+pub fn trace(batches: usize, seed: u64, top: usize) -> Vec<FamilyTrace> {
+    let mut out = Vec::new();
+    for (fi, (name, reference)) in references().into_iter().enumerate() {
+        let fam = family(name).expect("a registered family");
+        let per_batch = run_family(&fam, reference, fi, batches, seed);
+        for k in Kernel::available() {
+            let mut rows: Vec<(usize, &FamilyKernelStats, Where)> = per_batch
+                .iter()
+                .enumerate()
+                .flat_map(|(b, v)| v.iter().map(move |(s, w)| (b, s, *w)))
+                .filter(|(_, s, _)| s.kernel == k.name())
+                .collect();
+            let locate = |b: usize, w: Where, value: bool| {
+                let mut t = batch(&fam, reference, family_seed(seed, fi, b), b)
+                    .1
+                    .locate(k, w, value);
+                t.batch = b;
+                t
+            };
+            rows.sort_by(|a, b| b.1.max_value_error.total_cmp(&a.1.max_value_error));
+            let values = rows
+                .iter()
+                .take(top)
+                .map(|&(b, _, w)| locate(b, w, true))
+                .collect();
+            rows.sort_by(|a, b| b.1.max_jacobian_error.total_cmp(&a.1.max_jacobian_error));
+            let jacobians = rows
+                .iter()
+                .take(top)
+                .map(|&(b, _, w)| locate(b, w, false))
+                .collect();
+            out.push(FamilyTrace {
+                family: name.to_string(),
+                kernel: k.name().to_string(),
+                values,
+                jacobians,
+            });
+        }
+    }
+    out
 }
 
 fn layout_for(fam: &FamilyRef, b: usize) -> Layout {
@@ -219,21 +360,17 @@ fn directions(regime: FamilyRegime, rng: &mut Pcg64) -> DataSet {
     d
 }
 
-/// The model's value in double-double at internal point `x` (the coordinates mapped in
-/// double-double too).
-fn reference_value(layout: &Layout, x: &[DD], lobe: LobeReference, u: [f64; 3], v: [f64; 3]) -> DD {
-    let nf = layout.family().lobe_fields().len();
-    let mut kd = DD::ZERO;
-    let mut lobes: Vec<Vec<DD>> = (0..layout.lobe_count())
-        .map(|_| {
-            layout
-                .family()
-                .lobe_fields()
-                .iter()
-                .map(|f| DD::new(f.default))
-                .collect()
-        })
+/// The physical fields at internal point `x` in double-double (the coordinates mapped in
+/// double-double too): `kd` and each lobe's fields.
+fn reference_fields(layout: &Layout, x: &[DD]) -> (DD, Vec<Vec<DD>>) {
+    let defaults: Vec<DD> = layout
+        .family()
+        .lobe_fields()
+        .iter()
+        .map(|f| DD::new(f.default))
         .collect();
+    let mut kd = DD::ZERO;
+    let mut lobes = vec![defaults; layout.lobe_count()];
     let mut next = 0;
     for p in layout.params() {
         let value = match p.fixed {
@@ -257,34 +394,129 @@ fn reference_value(layout: &Layout, x: &[DD], lobe: LobeReference, u: [f64; 3], 
             }
         }
     }
-    debug_assert!(lobes.iter().all(|l| l.len() == nf));
+    (kd, lobes)
+}
+
+/// The model's value in double-double at internal point `x`.
+fn reference_value(layout: &Layout, x: &[DD], lobe: LobeReference, u: [f64; 3], v: [f64; 3]) -> DD {
+    let (kd, lobes) = reference_fields(layout, x);
     lobes.iter().fold(kd, |acc, l| acc + lobe(l, u, v))
 }
 
-fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<FamilyKernelStats> {
+/// The reference Jacobian (column-major, `m` rows): five-point differences ([`STEP`]) of the
+/// one term each free parameter moves (`kd` or its lobe), the other terms being equal at every
+/// point of the stencil.
+fn reference_jacobian(layout: &Layout, x: &[f64], lobe: LobeReference, data: &DataSet) -> Vec<f64> {
+    let (m, p) = (data.len(), layout.dim());
+    let mut jref = vec![0.0; m * p];
+    for j in 0..p {
+        let h = STEP * (1.0 + x[j].abs());
+        let at = |k: f64| {
+            let mut xk: Vec<DD> = x.iter().map(|&v| DD::new(v)).collect();
+            xk[j] = xk[j] + DD::new(k * h);
+            reference_fields(layout, &xk)
+        };
+        let stencil = [at(1.0), at(-1.0), at(2.0), at(-2.0)];
+        let owner = layout.free_param(j).expect("a free parameter").lobe;
+        for i in 0..m {
+            let term = |(kd, lobes): &(DD, Vec<Vec<DD>>)| match owner {
+                None => *kd,
+                Some(k) => lobe(&lobes[k], data.u(i), data.v(i)),
+            };
+            let [f1, fm1, f2, fm2] = stencil.each_ref().map(term);
+            jref[j * m + i] = (((f1 - fm1) * 8.0 - (f2 - fm2)) / (12.0 * h)).to_f64();
+        }
+    }
+    jref
+}
+
+/// One batch's inputs and references, kept to locate its largest errors.
+struct Batch {
+    regime: FamilyRegime,
+    layout: Layout,
+    x: Vec<f64>,
+    data: DataSet,
+    refs: Vec<f64>,
+    jref: Vec<f64>,
+    /// The floor of the Jacobian columns' scales.
+    floor: f64,
+}
+
+impl Batch {
+    /// Kernel `k`'s values and Jacobian at the batch's point.
+    fn kernel(&self, k: Kernel) -> (bool, Vec<f64>, bool, Vec<f64>) {
+        let (m, p) = (self.data.len(), self.layout.dim());
+        let samples = self.layout.prepare(&self.data);
+        let mut ev = Evaluator::with_kernel(&self.layout, k).expect("an available kernel");
+        let (mut r, mut jac) = (vec![0.0; m], vec![0.0; m * p]);
+        let ok_r = ev.residuals(&self.x, &samples, &mut r);
+        let mut r2 = vec![0.0; m];
+        let ok_j = ev.residuals_and_jacobian(&self.x, &samples, &mut r2, &mut jac);
+        (ok_r, r, ok_j, jac)
+    }
+
+    /// The scale of Jacobian column `j` (its largest finite reference entry, at least the
+    /// floor), `None` where a reference entry is not finite.
+    fn column_scale(&self, j: usize) -> Option<f64> {
+        let m = self.data.len();
+        let rc = &self.jref[j * m..(j + 1) * m];
+        let scale = rc.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        scale.is_finite().then(|| scale.max(self.floor))
+    }
+
+    fn locate(&self, k: Kernel, w: Where, value: bool) -> TracedError {
+        let m = self.data.len();
+        let (_, r, _, jac) = self.kernel(k);
+        let (i, column, got, want, scale) = if value {
+            let i = w.value_sample;
+            let rf = self.refs[i];
+            let scale = if rf == 0.0 {
+                1.0
+            } else {
+                rf.abs().max(VALUE_FLOOR)
+            };
+            (i, None, r[i], rf, scale)
+        } else {
+            let (j, i) = w.jacobian;
+            let name = self.layout.free_names()[j].clone();
+            let scale = self.column_scale(j).unwrap_or(f64::NAN);
+            (i, Some(name), jac[j * m + i], self.jref[j * m + i], scale)
+        };
+        TracedError {
+            error: (got - want).abs() / scale,
+            batch: usize::MAX,
+            regime: self.regime,
+            kinds: self.layout.kinds().to_vec(),
+            x: self.x.clone(),
+            params: serde_json::to_string(&self.layout.decode(&self.x))
+                .expect("parameters serialise"),
+            column,
+            u: self.data.u(i),
+            v: self.data.v(i),
+            kernel: got,
+            reference: want,
+            scale,
+        }
+    }
+}
+
+fn batch(
+    fam: &FamilyRef,
+    lobe: LobeReference,
+    seed: u64,
+    b: usize,
+) -> (Vec<(FamilyKernelStats, Where)>, Batch) {
     let mut rng = Pcg64::seed_from_u64(seed);
     let regime = REGIMES[b % REGIMES.len()];
     let layout = layout_for(fam, b / REGIMES.len());
     let x = point(&layout, regime, &mut rng);
     let data = directions(regime, &mut rng);
-    let samples = layout.prepare(&data);
     let (m, p) = (data.len(), layout.dim());
     let xdd: Vec<DD> = x.iter().map(|&v| DD::new(v)).collect();
     let refs: Vec<DD> = (0..m)
         .map(|i| reference_value(&layout, &xdd, lobe, data.u(i), data.v(i)))
         .collect();
-    let mut jref = vec![0.0; m * p];
-    for j in 0..p {
-        let h = 1e-9 * (1.0 + x[j].abs());
-        let (mut xp, mut xm) = (xdd.clone(), xdd.clone());
-        xp[j] = xp[j] + DD::new(h);
-        xm[j] = xm[j] - DD::new(h);
-        for i in 0..m {
-            let fp = reference_value(&layout, &xp, lobe, data.u(i), data.v(i));
-            let fm = reference_value(&layout, &xm, lobe, data.u(i), data.v(i));
-            jref[j * m + i] = ((fp - fm) / (2.0 * h)).to_f64();
-        }
-    }
+    let jref = reference_jacobian(&layout, &x, lobe, &data);
     let finite_ref = refs.iter().all(|r| r.is_finite() && r.hi.abs() <= f64::MAX);
     // A column whose derivative vanishes (pan of a lobe with ax = ay) is compared absolutely,
     // against 1e-10 of the largest value: its analytic entries are rounding noise of that size.
@@ -292,45 +524,56 @@ fn batch(fam: &FamilyRef, lobe: LobeReference, seed: u64, b: usize) -> Vec<Famil
     // VALUE_FLOOR.
     let largest = refs.iter().fold(0.0f64, |a, r| a.max(r.to_f64().abs()));
     let floor = (1e-10 * largest).max(VALUE_FLOOR);
+    let this = Batch {
+        regime,
+        layout,
+        x,
+        data,
+        refs: refs.iter().map(|r| r.to_f64()).collect(),
+        jref,
+        floor,
+    };
     let mut out = Vec::new();
     for k in Kernel::available() {
-        let mut ev = Evaluator::with_kernel(&layout, k).expect("an available kernel");
-        let (mut r, mut jac) = (vec![0.0; m], vec![0.0; m * p]);
-        let ok_r = ev.residuals(&x, &samples, &mut r);
-        let mut r2 = vec![0.0; m];
-        let ok_j = ev.residuals_and_jacobian(&x, &samples, &mut r2, &mut jac);
+        let (ok_r, r, ok_j, jac) = this.kernel(k);
         let mut s = FamilyKernelStats {
             family: fam.name().to_string(),
             kernel: k.name().to_string(),
             values: m,
             ..FamilyKernelStats::default()
         };
+        let mut w = Where::default();
         s.nans = r.iter().chain(&jac).filter(|v| v.is_nan()).count();
         s.mismatches = usize::from(ok_r != finite_ref) + usize::from(ok_j != ok_r);
         if ok_r {
-            for (v, rf) in r.iter().zip(&refs) {
-                let rf = rf.to_f64();
+            for (i, (v, &rf)) in r.iter().zip(&this.refs).enumerate() {
                 let e = if rf == 0.0 {
                     v.abs()
                 } else {
                     (v - rf).abs() / rf.abs().max(VALUE_FLOOR)
                 };
-                s.max_value_error = s.max_value_error.max(e);
+                if e > s.max_value_error {
+                    s.max_value_error = e;
+                    w.value_sample = i;
+                }
             }
         }
         if ok_j {
-            for (col, rc) in jac.chunks(m.max(1)).zip(jref.chunks(m.max(1))) {
-                let scale = rc.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-                if !scale.is_finite() {
+            for j in 0..p {
+                let Some(scale) = this.column_scale(j) else {
                     continue;
-                }
-                let scale = scale.max(floor);
-                for (a, b) in col.iter().zip(rc) {
-                    s.max_jacobian_error = s.max_jacobian_error.max((a - b).abs() / scale);
+                };
+                let (col, rc) = (&jac[j * m..(j + 1) * m], &this.jref[j * m..(j + 1) * m]);
+                for (i, (a, b)) in col.iter().zip(rc).enumerate() {
+                    let e = (a - b).abs() / scale;
+                    if e > s.max_jacobian_error {
+                        s.max_jacobian_error = e;
+                        w.jacobian = (j, i);
+                    }
                 }
             }
         }
-        out.push(s);
+        out.push((s, w));
     }
-    out
+    (out, this)
 }
