@@ -44,3 +44,28 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     let m = if u[2] > v[2] { u[2] } else { v[2] };
     ks * norm * power * fresnel / (uh * m)
 }
+
+/// The lobe's condition ([`super::LobeCondition`]): the exponent's, `2 |g| (nu |h'x| A_x +
+/// nv |h'y| A_y)` for `(nu h'x^2 + nv h'y^2) g`, `g = ln(hz) / (hx^2 + hy^2)`, with the half
+/// vector's components rotated by the pan angle ([`super::rotated_condition`]; `2 |n ln(hz)|`
+/// for an isotropic lobe).
+pub(super) fn condition(f: &[f64], u: [f64; 3], v: [f64; 3]) -> f64 {
+    let (nu, nv, pan) = (f[1], f[2], f[4]);
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    if !(len > 0.0 && s[2] > 0.0) {
+        return 0.0;
+    }
+    let h = s.map(|c| c / len);
+    let r2 = h[0] * h[0] + h[1] * h[1];
+    if r2 == 0.0 {
+        return 0.0;
+    }
+    let ln_hz = if r2 < 0.5 {
+        0.5 * (-r2).ln_1p()
+    } else {
+        h[2].ln()
+    };
+    let g = ln_hz / r2;
+    super::rotated_condition(h[0], h[1], pan, nu * g.abs(), nv * g.abs())
+}

@@ -63,3 +63,28 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     };
     ks * d * fresnel * g_over
 }
+
+/// The lobe's condition ([`super::LobeCondition`]): the exponent's, `2 (|s'x| A_x / mx^2 +
+/// |s'y| A_y / my^2)` for the slopes `s = (u + v) / (uz + vz)` rotated by the pan angle
+/// ([`super::rotated_condition`]), plus the magnitude of the prepared logarithms
+/// `|ln(G / (4 uz vz))| + 2 ln(1 + tan^2(theta_h))` (each good to a few ulps of itself).
+pub(super) fn condition(f: &[f64], u: [f64; 3], v: [f64; 3]) -> f64 {
+    let (mx, my, pan) = (f[1], f[2], f[4]);
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    if !(u[2] >= 0.0 && v[2] >= 0.0 && s[2] > 0.0) {
+        return 0.0;
+    }
+    let (px, py) = (s[0] / s[2], s[1] / s[2]);
+    let tan2 = px * px + py * py;
+    let (lo, hi) = (u[2].min(v[2]), u[2].max(v[2]));
+    let q = 4.0 * s[2] / (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    let w = (q * lo).min(1.0) / (4.0 * lo * hi);
+    let ln_w = if w.is_finite() {
+        w.ln()
+    } else {
+        (q / (4.0 * hi)).ln()
+    };
+    super::rotated_condition(px, py, pan, 1.0 / (mx * mx), 1.0 / (my * my))
+        + ln_w.abs()
+        + 2.0 * tan2.ln_1p()
+}

@@ -5,10 +5,13 @@
 //! seeded batches draw one layout (one anisotropic lobe, one isotropic lobe, two lobes), one
 //! point `x` in the optimiser's coordinates from a [`FamilyRegime`] and [`BATCH`] direction
 //! pairs. The values are compared with the family's formula evaluated in double-double
-//! arithmetic ([`crate::dd`]); each Jacobian column with five-point differences of that
-//! formula in double-double (step [`STEP`]` (1 + |x_j|)`), scaled by the column's largest
-//! reference entry (at least [`VALUE_FLOOR`]).
-//! Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are compared absolutely. A
+//! arithmetic ([`crate::dd`]), within [`VALUE_TOLERANCE`] of the value plus a term for the
+//! lobes' condition ([`CONDITION_FACTOR`], [`LobeCondition`]: the rounding of the kernels'
+//! inputs through an ill-conditioned exponent); each Jacobian column with five-point
+//! differences of that formula in double-double (step [`STEP`]` (1 + |x_j|)`), scaled by the
+//! column's largest reference entry (at least [`VALUE_FLOOR`]), within
+//! [`JACOBIAN_TOLERANCE`]. Values below [`VALUE_FLOOR`] (the far tails of narrow lobes) are
+//! compared absolutely. [`trace`] locates the largest errors (`examples/families_full.rs`). A
 //! kernel that reports a failed evaluation where the reference is finite and below `f64::MAX`
 //! (or the other way round) counts as a mismatch: a family whose value on the horizon is
 //! `+inf` (Ward's) fails every [`FamilyRegime::Horizon`] batch, in the kernels as in its
@@ -76,17 +79,87 @@ pub(crate) fn cos_half(u: [f64; 3], v: [f64; 3]) -> DD {
     (u[0] * s[0] + u[1] * s[1] + u[2] * s[2]) / l
 }
 
-/// The families with a double-double reference, by name.
-pub fn references() -> Vec<(&'static str, LobeReference)> {
+/// A lobe's condition for the value check ([`CONDITION_FACTOR`]): `kappa` such that the
+/// roundings of the kernels' inputs (the prepared columns, the pan's cosine and sine, the
+/// physical parameters) move the lobe's logarithm by about `kappa eps`, of which the rounding
+/// count is [`CONDITION_FACTOR`]. `fields` are the lobe's physical field values (the family's
+/// order), `u`, `v` the directions. Finite wherever the lobe is not 0.
+pub type LobeCondition = fn(fields: &[f64], u: [f64; 3], v: [f64; 3]) -> f64;
+
+/// A family's reference: its lobe in double-double and the lobe's condition.
+#[derive(Clone, Copy, Debug)]
+pub struct FamilyReference {
+    /// The family's name.
+    pub name: &'static str,
+    /// The lobe in double-double.
+    pub lobe: LobeReference,
+    /// The lobe's condition.
+    pub condition: LobeCondition,
+}
+
+/// The relative value error the check allows whatever the condition: a formula rounds a
+/// fixed number of times (a few tens of ulps with the fast `exp`'s truncation, 32 ulps), so
+/// 1e-12 (4500 eps) is a wide margin, which a cancellation the check is meant to find (a
+/// difference of nearly equal terms: `1 - u.h`, `1 - hz^2`, `ln` of a number near 1) leaves.
+pub const VALUE_TOLERANCE: f64 = 1e-12;
+
+/// The factor of the condition term of the value check: a value may be off by
+/// [`VALUE_TOLERANCE`] of itself plus `CONDITION_FACTOR eps sum_k |lobe_k| kappa_k`
+/// ([`LobeCondition`]), the error the roundings of the kernels' inputs cause through an
+/// ill-conditioned exponent.
+///
+/// A lobe whose exponent is a quadratic form of rotated components, `T = x'^2 / ax^2 +
+/// y'^2 / ay^2` with `x' = cos(p) x + sin(p) y` (Cook-Torrance's and Ward's slopes, GGX's `t`
+/// and masking sums, Ashikhmin-Shirley's `(nu h'x^2 + nv h'y^2) g`), gets the prepared
+/// components and the pan's cosine and sine rounded (`u + v`, the division by its z
+/// component, `sin` of a rounded angle), so `x'` is off by about `3.5 eps A_x` with `A_x =
+/// |cos(p) x| + |sin(p) y|`, and `T` by `2 |x'| A_x / ax^2` times that, plus `4 eps T` from
+/// the roughness (`exp` of its coordinate, then `1 / (ax ax)`). Where `x'` is a small
+/// difference of large terms (a sharp axis, `ax` = 0.001, across a half vector far from the
+/// normal along a wide axis) this is far more than `T eps`: a search of such configurations
+/// (`examples/families_condition.rs`) found 3.3e-10 relative for Cook-Torrance, 1.4e-10 for
+/// Ward and 1.2e-12 for GGX, an error no `f64` evaluation from these inputs avoids. Each
+/// family's `kappa` is the condition of its lobe's logarithm, `2 sum_a |x'_a| A_a / a^2` for
+/// such a form (at least `2 T`, equal where nothing cancels; see each family's module); 8
+/// covers the count above (about 5.5 per unit of `kappa`) with margin: the search's largest
+/// error is 2.7 `eps kappa`.
+pub const CONDITION_FACTOR: f64 = 8.0;
+
+/// The Jacobian error the check allows, relative to the column's scale: an analytic
+/// derivative is exact to rounding (the same conditions as the value's, relative to the
+/// column's largest entry); a missing or wrong term of the chain rule shows at 1e-3 or worse.
+pub const JACOBIAN_TOLERANCE: f64 = 1e-8;
+
+/// `2 (wx |x'| A_x + wy |y'| A_y)` for `(x, y)` rotated by `pan` degrees (`x' = c x + s y`,
+/// `y' = c y - s x`, `A_x = |c x| + |s y|`, `A_y = |c y| + |s x|`): the condition, in units of
+/// the rounding of the components, of `wx x'^2 + wy y'^2` ([`CONDITION_FACTOR`]).
+pub(crate) fn rotated_condition(x: f64, y: f64, pan: f64, wx: f64, wy: f64) -> f64 {
+    let (s, c) = pan.to_radians().sin_cos();
+    let (xr, yr) = (c * x + s * y, c * y - s * x);
+    let (ax, ay) = ((c * x).abs() + (s * y).abs(), (c * y).abs() + (s * x).abs());
+    2.0 * (wx * xr.abs() * ax + wy * yr.abs() * ay)
+}
+
+/// The families with a double-double reference.
+pub fn references() -> Vec<FamilyReference> {
     use brdf_model::models::{ashikhmin_shirley as asm, blinn_phong as bpm, cook_torrance as ctm};
     use brdf_model::models::{ggx as ggxm, ward as wm};
+    let r = |name, lobe, condition| FamilyReference {
+        name,
+        lobe,
+        condition,
+    };
     vec![
-        (ggxm::NAME, ggx::lobe as LobeReference),
-        (ctm::NAME, cook_torrance::lobe as LobeReference),
-        (bpm::NAME, blinn_phong::lobe as LobeReference),
-        (wm::NAME, ward::lobe as LobeReference),
-        (wm::GMD_NAME, ward::lobe_gmd as LobeReference),
-        (asm::NAME, ashikhmin_shirley::lobe as LobeReference),
+        r(ggxm::NAME, ggx::lobe, ggx::condition),
+        r(ctm::NAME, cook_torrance::lobe, cook_torrance::condition),
+        r(bpm::NAME, blinn_phong::lobe, blinn_phong::condition),
+        r(wm::NAME, ward::lobe, ward::condition),
+        r(wm::GMD_NAME, ward::lobe_gmd, ward::condition),
+        r(
+            asm::NAME,
+            ashikhmin_shirley::lobe,
+            ashikhmin_shirley::condition,
+        ),
     ]
 }
 
@@ -132,6 +205,10 @@ pub struct FamilyKernelStats {
     /// Largest relative error of a value (`|f - ref| / |ref|`; reference values of 0 compared
     /// absolutely, those below [`VALUE_FLOOR`] relative to it).
     pub max_value_error: f64,
+    /// Largest value error over its bound ([`VALUE_TOLERANCE`] of the value plus the
+    /// condition term, [`CONDITION_FACTOR`]); the check wants at most 1.
+    #[serde(default)]
+    pub max_value_normalised: f64,
     /// Largest Jacobian error relative to its column's largest reference entry.
     pub max_jacobian_error: f64,
     /// Evaluations where the kernel's success differs from the reference's finiteness.
@@ -152,9 +229,10 @@ pub struct FamilySection {
 /// Runs `batches` batches per family with a reference.
 pub fn run(batches: usize, seed: u64) -> FamilySection {
     let mut stats = Vec::new();
-    for (fi, (name, reference)) in references().into_iter().enumerate() {
+    for (fi, reference) in references().into_iter().enumerate() {
+        let name = reference.name;
         let fam = family(name).expect("a registered family");
-        let per_batch = run_family(&fam, reference, fi, batches, seed);
+        let per_batch = run_family(&fam, &reference, fi, batches, seed);
         for k in Kernel::available() {
             let mut s = FamilyKernelStats {
                 family: name.to_string(),
@@ -168,6 +246,7 @@ pub fn run(batches: usize, seed: u64) -> FamilySection {
             {
                 s.values += one.values;
                 s.max_value_error = s.max_value_error.max(one.max_value_error);
+                s.max_value_normalised = s.max_value_normalised.max(one.max_value_normalised);
                 s.max_jacobian_error = s.max_jacobian_error.max(one.max_jacobian_error);
                 s.mismatches += one.mismatches;
                 s.nans += one.nans;
@@ -181,7 +260,7 @@ pub fn run(batches: usize, seed: u64) -> FamilySection {
 /// The batches of one family (`fi` its index in [`references`]), in parallel.
 fn run_family(
     fam: &FamilyRef,
-    reference: LobeReference,
+    reference: &FamilyReference,
     fi: usize,
     batches: usize,
     seed: u64,
@@ -196,8 +275,8 @@ fn family_seed(seed: u64, fi: usize, b: usize) -> u64 {
     derive_seed(seed, 40 + fi as u64, b as u64)
 }
 
-/// Where one kernel's largest errors of a batch are: the sample of the largest value error,
-/// and the column and sample of the largest Jacobian error.
+/// Where one kernel's largest errors of a batch are: the sample of the largest value error
+/// over its bound, and the column and sample of the largest Jacobian error.
 #[derive(Clone, Copy, Debug, Default)]
 struct Where {
     value_sample: usize,
@@ -207,8 +286,15 @@ struct Where {
 /// One of the largest errors of a family, located (see [`trace`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct TracedError {
-    /// The error, as the section measures it.
+    /// The error, as the section measures it (relative to `scale`).
     pub error: f64,
+    /// The error over the check's bound: for a value, over [`VALUE_TOLERANCE`] of `scale`
+    /// plus the condition term ([`CONDITION_FACTOR`]); for a Jacobian entry, over
+    /// [`JACOBIAN_TOLERANCE`] of `scale`.
+    pub normalised: f64,
+    /// For a value, the condition term's share of the bound: `CONDITION_FACTOR eps
+    /// sum_k |lobe_k| kappa_k` over `scale` (0 for a Jacobian entry).
+    pub condition: f64,
     /// The batch (its regime and layout follow from it).
     pub batch: usize,
     /// The batch's regime.
@@ -241,7 +327,9 @@ pub struct FamilyTrace {
     pub family: String,
     /// The kernel.
     pub kernel: String,
-    /// The `top` largest value errors, largest first (one per batch).
+    /// The largest relative value error (as [`FamilyKernelStats::max_value_error`]).
+    pub max_value_error: f64,
+    /// The `top` largest value errors over their bounds, largest first (one per batch).
     pub values: Vec<TracedError>,
     /// The `top` largest Jacobian errors, largest first (one per batch).
     pub jacobians: Vec<TracedError>,
@@ -253,9 +341,10 @@ pub struct FamilyTrace {
 /// excess can be traced to its cause (`examples/families_full.rs` prints them).
 pub fn trace(batches: usize, seed: u64, top: usize) -> Vec<FamilyTrace> {
     let mut out = Vec::new();
-    for (fi, (name, reference)) in references().into_iter().enumerate() {
+    for (fi, reference) in references().into_iter().enumerate() {
+        let name = reference.name;
         let fam = family(name).expect("a registered family");
-        let per_batch = run_family(&fam, reference, fi, batches, seed);
+        let per_batch = run_family(&fam, &reference, fi, batches, seed);
         for k in Kernel::available() {
             let mut rows: Vec<(usize, &FamilyKernelStats, Where)> = per_batch
                 .iter()
@@ -264,13 +353,16 @@ pub fn trace(batches: usize, seed: u64, top: usize) -> Vec<FamilyTrace> {
                 .filter(|(_, s, _)| s.kernel == k.name())
                 .collect();
             let locate = |b: usize, w: Where, value: bool| {
-                let mut t = batch(&fam, reference, family_seed(seed, fi, b), b)
+                let mut t = batch(&fam, &reference, family_seed(seed, fi, b), b)
                     .1
                     .locate(k, w, value);
                 t.batch = b;
                 t
             };
-            rows.sort_by(|a, b| b.1.max_value_error.total_cmp(&a.1.max_value_error));
+            rows.sort_by(|a, b| {
+                b.1.max_value_normalised
+                    .total_cmp(&a.1.max_value_normalised)
+            });
             let values = rows
                 .iter()
                 .take(top)
@@ -285,6 +377,7 @@ pub fn trace(batches: usize, seed: u64, top: usize) -> Vec<FamilyTrace> {
             out.push(FamilyTrace {
                 family: name.to_string(),
                 kernel: k.name().to_string(),
+                max_value_error: rows.iter().fold(0.0, |a, r| r.1.max_value_error.max(a)),
                 values,
                 jacobians,
             });
@@ -397,12 +490,6 @@ fn reference_fields(layout: &Layout, x: &[DD]) -> (DD, Vec<Vec<DD>>) {
     (kd, lobes)
 }
 
-/// The model's value in double-double at internal point `x`.
-fn reference_value(layout: &Layout, x: &[DD], lobe: LobeReference, u: [f64; 3], v: [f64; 3]) -> DD {
-    let (kd, lobes) = reference_fields(layout, x);
-    lobes.iter().fold(kd, |acc, l| acc + lobe(l, u, v))
-}
-
 /// The reference Jacobian (column-major, `m` rows): five-point differences ([`STEP`]) of the
 /// one term each free parameter moves (`kd` or its lobe), the other terms being equal at every
 /// point of the stencil.
@@ -437,6 +524,9 @@ struct Batch {
     x: Vec<f64>,
     data: DataSet,
     refs: Vec<f64>,
+    /// Per sample, the condition term of the value's bound: `CONDITION_FACTOR eps sum_k
+    /// |lobe_k| kappa_k`.
+    conds: Vec<f64>,
     jref: Vec<f64>,
     /// The floor of the Jacobian columns' scales.
     floor: f64,
@@ -455,6 +545,24 @@ impl Batch {
         (ok_r, r, ok_j, jac)
     }
 
+    /// The scale of sample `i`'s value error: its reference value (at least [`VALUE_FLOOR`]),
+    /// or 1 where the reference is 0 (compared absolutely).
+    fn value_scale(&self, i: usize) -> f64 {
+        let rf = self.refs[i];
+        if rf == 0.0 {
+            1.0
+        } else {
+            rf.abs().max(VALUE_FLOOR)
+        }
+    }
+
+    /// Sample `i`'s value error relative to its scale, and over its bound.
+    fn value_error(&self, i: usize, v: f64) -> (f64, f64) {
+        let scale = self.value_scale(i);
+        let e = (v - self.refs[i]).abs();
+        (e / scale, e / (VALUE_TOLERANCE * scale + self.conds[i]))
+    }
+
     /// The scale of Jacobian column `j` (its largest finite reference entry, at least the
     /// floor), `None` where a reference entry is not finite.
     fn column_scale(&self, j: usize) -> Option<f64> {
@@ -467,23 +575,23 @@ impl Batch {
     fn locate(&self, k: Kernel, w: Where, value: bool) -> TracedError {
         let m = self.data.len();
         let (_, r, _, jac) = self.kernel(k);
-        let (i, column, got, want, scale) = if value {
+        let (i, column, got, want, scale, normalised, condition) = if value {
             let i = w.value_sample;
-            let rf = self.refs[i];
-            let scale = if rf == 0.0 {
-                1.0
-            } else {
-                rf.abs().max(VALUE_FLOOR)
-            };
-            (i, None, r[i], rf, scale)
+            let scale = self.value_scale(i);
+            let (_, n) = self.value_error(i, r[i]);
+            (i, None, r[i], self.refs[i], scale, n, self.conds[i] / scale)
         } else {
             let (j, i) = w.jacobian;
             let name = self.layout.free_names()[j].clone();
             let scale = self.column_scale(j).unwrap_or(f64::NAN);
-            (i, Some(name), jac[j * m + i], self.jref[j * m + i], scale)
+            let (got, want) = (jac[j * m + i], self.jref[j * m + i]);
+            let n = (got - want).abs() / (JACOBIAN_TOLERANCE * scale);
+            (i, Some(name), got, want, scale, n, 0.0)
         };
         TracedError {
             error: (got - want).abs() / scale,
+            normalised,
+            condition,
             batch: usize::MAX,
             regime: self.regime,
             kinds: self.layout.kinds().to_vec(),
@@ -502,7 +610,7 @@ impl Batch {
 
 fn batch(
     fam: &FamilyRef,
-    lobe: LobeReference,
+    reference: &FamilyReference,
     seed: u64,
     b: usize,
 ) -> (Vec<(FamilyKernelStats, Where)>, Batch) {
@@ -513,10 +621,27 @@ fn batch(
     let data = directions(regime, &mut rng);
     let (m, p) = (data.len(), layout.dim());
     let xdd: Vec<DD> = x.iter().map(|&v| DD::new(v)).collect();
-    let refs: Vec<DD> = (0..m)
-        .map(|i| reference_value(&layout, &xdd, lobe, data.u(i), data.v(i)))
+    let (kd, lobes) = reference_fields(&layout, &xdd);
+    let fields: Vec<Vec<f64>> = lobes
+        .iter()
+        .map(|l| l.iter().map(|f| f.to_f64()).collect())
         .collect();
-    let jref = reference_jacobian(&layout, &x, lobe, &data);
+    let (mut refs, mut conds) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    for i in 0..m {
+        let (u, v) = (data.u(i), data.v(i));
+        let (mut value, mut cond) = (kd, 0.0);
+        for (l, f) in lobes.iter().zip(&fields) {
+            let lobe = (reference.lobe)(l, u, v);
+            value = value + lobe;
+            let size = lobe.to_f64().abs();
+            if size > 0.0 && size.is_finite() {
+                cond += size * (reference.condition)(f, u, v);
+            }
+        }
+        refs.push(value);
+        conds.push(CONDITION_FACTOR * f64::EPSILON * cond);
+    }
+    let jref = reference_jacobian(&layout, &x, reference.lobe, &data);
     let finite_ref = refs.iter().all(|r| r.is_finite() && r.hi.abs() <= f64::MAX);
     // A column whose derivative vanishes (pan of a lobe with ax = ay) is compared absolutely,
     // against 1e-10 of the largest value: its analytic entries are rounding noise of that size.
@@ -530,6 +655,7 @@ fn batch(
         x,
         data,
         refs: refs.iter().map(|r| r.to_f64()).collect(),
+        conds,
         jref,
         floor,
     };
@@ -546,14 +672,11 @@ fn batch(
         s.nans = r.iter().chain(&jac).filter(|v| v.is_nan()).count();
         s.mismatches = usize::from(ok_r != finite_ref) + usize::from(ok_j != ok_r);
         if ok_r {
-            for (i, (v, &rf)) in r.iter().zip(&this.refs).enumerate() {
-                let e = if rf == 0.0 {
-                    v.abs()
-                } else {
-                    (v - rf).abs() / rf.abs().max(VALUE_FLOOR)
-                };
-                if e > s.max_value_error {
-                    s.max_value_error = e;
+            for (i, &v) in r.iter().enumerate() {
+                let (e, n) = this.value_error(i, v);
+                s.max_value_error = s.max_value_error.max(e);
+                if n > s.max_value_normalised {
+                    s.max_value_normalised = n;
                     w.value_sample = i;
                 }
             }
