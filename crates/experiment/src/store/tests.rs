@@ -54,6 +54,7 @@ fn record(i: u32, best: f64) -> TrialRecord {
             best_x: vec![1.0, 2.0],
             trace: vec![TracePoint { at, rmse: 0.09 }],
             counters: vec![("restarts".into(), 3)],
+            failure: None,
         },
     }
 }
