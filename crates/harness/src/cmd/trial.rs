@@ -50,6 +50,7 @@ pub fn trial(a: TrialArgs) -> Result<()> {
             spec.config_labels().join(", ")
         );
     };
+    super::shared::refuse_unrunnable(base, "brdf-sls trial")?;
     let Some(instance) = spec.instances.iter().find(|i| i.name == a.instance) else {
         bail_input!(
             "no instance named `{}` in {} (instances: {})",
