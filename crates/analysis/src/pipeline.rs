@@ -134,6 +134,7 @@ where
     for line in &prepared.notes {
         say(line);
     }
+    let before = prepared.folder.contents().map(last_session);
     let spec = &prepared.spec;
     say(&spec.describe(threads));
     say(&format!("results: {}", out.display()));
@@ -148,6 +149,13 @@ where
         "evaluation kernel: {}, solver kernel: {}",
         provenance.kernel, provenance.solver_kernel
     ));
+    let mut warnings = prepared.notes.clone();
+    if let Some(before) = before.filter(|_| !request.options.fresh) {
+        for line in changes_since(&before, &provenance) {
+            say(&format!("note: {line}"));
+            warnings.push(line);
+        }
+    }
     for (i, b) in spec.instances.iter().zip(&prepared.built) {
         let rep = b
             .filter_report
@@ -225,10 +233,64 @@ where
         spec: prepared.spec,
         outcome,
         report,
-        warnings: prepared.notes,
+        warnings,
         threads,
         summary,
     })
+}
+
+/// What wrote the results so far: the program, its version and the custom kinds' schemas of
+/// the last session (of the header in files without sessions).
+struct Written {
+    program: String,
+    version: String,
+    schemas: std::collections::BTreeMap<String, String>,
+}
+
+fn last_session(c: &brdf_experiment::store::Contents) -> Written {
+    match c.sessions.last() {
+        Some(s) => Written {
+            program: s.program.clone(),
+            version: s.program_version.clone(),
+            schemas: s.schemas.clone(),
+        },
+        None => Written {
+            program: c.header.program.clone(),
+            version: c.header.program_version.clone(),
+            schemas: c.header.schemas.clone(),
+        },
+    }
+}
+
+/// Notes on what changed since the results so far were written: the program (a custom
+/// binary's name and version, the workspace's version and commit) and the settings schema of
+/// each custom kind. Nothing for files that did not record them.
+fn changes_since(before: &Written, now: &brdf_experiment::run::Provenance) -> Vec<String> {
+    let mut lines = Vec::new();
+    let version = brdf_experiment::PROGRAM_VERSION;
+    let was = format!("{} (brdf-sls {})", before.program, before.version);
+    let is = format!("{} (brdf-sls {version})", now.program);
+    if (!before.version.is_empty() && before.version != version)
+        || (!before.program.is_empty() && before.program != now.program)
+    {
+        lines.push(format!(
+            "the results so far were written by {}; this session runs {}: the code may have \
+             changed in between",
+            was.trim(),
+            is.trim()
+        ));
+    }
+    for (kind, hash) in &now.schemas {
+        if let Some(old) = before.schemas.get(kind)
+            && old != hash
+        {
+            lines.push(format!(
+                "the settings schema of kind `{kind}` changed since the results so far were \
+                 written (schema {old}, now {hash}): its fields or defaults differ"
+            ));
+        }
+    }
+    lines
 }
 
 /// The worker threads of a run: the request's, capped (with a note) at the trials of the plan

@@ -46,6 +46,27 @@ pub struct Provenance {
     pub solver_kernel: String,
     /// Instance name -> [`crate::seed::data_hash`] of its data.
     pub data_hashes: BTreeMap<String, String>,
+    /// The program that runs the trials, when it named itself ([`set_program`]).
+    pub program: String,
+    /// Kind -> [`sls::registry::schema_hash`], for the spec's kinds that are not built in.
+    pub schemas: BTreeMap<String, String>,
+}
+
+static PROGRAM: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+
+/// Names the program that runs trials in this process (`custom-algorithm 0.1.0`), recorded
+/// with results ([`Provenance::program`]); the first call wins.
+pub fn set_program(name: &str, version: &str) {
+    let _ = PROGRAM.set(format!("{name} {version}").trim().to_string());
+}
+
+/// The schema hash of each kind of `spec` that is not built in.
+pub fn schemas_of(spec: &Spec) -> BTreeMap<String, String> {
+    let kinds = spec.configurations.iter().map(|c| c.algorithm.kind_name());
+    kinds
+        .filter(|k| !sls::registry::is_builtin(k))
+        .filter_map(|k| Some((k.to_string(), sls::registry::schema_hash(k)?)))
+        .collect()
 }
 
 /// The real executor: sls algorithms on brdf-model objectives built once per instance.
@@ -98,6 +119,8 @@ impl SlsExecutor {
                 .zip(built)
                 .map(|(i, b)| (i.name.clone(), crate::seed::data_hash(&b.data)))
                 .collect(),
+            program: PROGRAM.get().cloned().unwrap_or_default(),
+            schemas: schemas_of(spec),
         };
         Ok(SlsExecutor {
             objectives,
@@ -272,6 +295,8 @@ pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Heade
         data_hashes: provenance.data_hashes.clone(),
         shard: None,
         best_known: spec.best_known(),
+        program: provenance.program.clone(),
+        schemas: provenance.schemas.clone(),
     }
 }
 

@@ -35,6 +35,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     // Before any spec is parsed: `kind = "python"` is a kind like the built-in ones.
     algorithm::register();
+    // Results written from Python name the package (the command line's name none).
+    brdf_experiment::run::set_program("brdf_sls (Python)", env!("CARGO_PKG_VERSION"));
     m.add("InputError", py.get_type::<support::InputError>())?;
     m.add("RunError", py.get_type::<support::RunError>())?;
     m.add("BudgetExhausted", py.get_type::<support::BudgetExhausted>())?;
