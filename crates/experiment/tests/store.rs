@@ -6,7 +6,7 @@ use std::io::Write;
 
 use brdf_experiment::machine::MachineInfo;
 use brdf_experiment::store::*;
-use sls::{EvalCounts, Stamp, StopReason, TracePoint};
+use sls::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 
 fn header(fp: &str) -> Header {
     Header {
