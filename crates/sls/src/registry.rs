@@ -3,8 +3,8 @@
 //! An algorithm is a configuration type (serde, with defaults and validation) whose
 //! [`Algorithm::run`] searches through a `&mut dyn Search`. Registering the type under its
 //! [`Algorithm::KIND`] makes `kind = "..."` in an experiment file (or a JSON record) deserialise
-//! into it as an [`AlgorithmConfig`]. The built-in algorithms (`aed`, `aers`, `rpls`, `ds`,
-//! `sa`, `sals`, `avg`, `asa`) are registered the same way, before any other.
+//! into it as an [`crate::AlgorithmConfig`]. The built-in algorithms (`aed`, `aers`, `rpls`,
+//! `ds`, `sa`, `sals`, `avg`, `asa`) are registered the same way, before any other.
 //!
 //! A kind has two parts ([`crate::schema`]): its schema ([`Schema`]: the settings read,
 //! checked, defaulted and written) and its runner ([`Algorithm::run`]). [`register`] adds both;

@@ -3,7 +3,7 @@
 //! settings) and its **runner** ([`Algorithm::run`], the search loop). A program that only reads
 //! specs and results needs the schema; one that runs trials needs both. The registry
 //! ([`crate::registry`]) holds kinds with or without a runner, and [`crate::AlgorithmConfig`]
-//! holds one configuration with its type erased ([`Erased`]).
+//! holds one configuration with its type erased.
 
 use std::any::Any;
 use std::fmt::Debug;
