@@ -1,7 +1,7 @@
 """The Python example of docs/own-algorithm.md ("Benchmark your own algorithm") runs as written:
 its algorithm and spec, from the folder that holds them, with `python -m brdf_sls run` and with
-`brdf-sls run` (which hands the spec to Python). The guide's Rust example runs as a doc test of
-sls."""
+`brdf-sls run` (which runs its Python configurations in worker processes). The guide's Rust
+example runs as a doc test of sls."""
 
 from __future__ import annotations
 
