@@ -42,7 +42,19 @@ fn custom_kind_folder(dir: &Path) {
         .replace(r#"kind = \"rpls\""#, r#"kind = \"my-search\"\nstep = 0.5"#)
         .replace(r#""kind":"rpls""#, r#""kind":"my-search","step":0.5"#);
     assert_ne!(renamed, stored);
-    std::fs::write(&path, renamed).unwrap();
+    // The header's fingerprint as that program computed it, from its canonical spec.
+    let mut lines: Vec<String> = renamed.lines().map(str::to_string).collect();
+    let mut header: serde_json::Value = serde_json::from_str(&lines[0]).unwrap();
+    header["fingerprint"] = brdf_experiment::seed::fingerprint(&header["spec"].to_string()).into();
+    lines[0] = header.to_string();
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+}
+
+/// The fingerprint in the results header.
+fn stored_fingerprint(dir: &Path) -> String {
+    let text = std::fs::read_to_string(dir.join("out/trials.jsonl")).unwrap();
+    let header: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    header["fingerprint"].as_str().unwrap().to_string()
 }
 
 #[test]
@@ -52,6 +64,17 @@ fn results_of_a_custom_kind_are_read_without_its_program() {
     let o = brdf_sls(&["stats", "out", "--print-only"], dir.path());
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("MINE"), "{}", text(&o));
+    // The kind's settings are read back whole: the statistics name the results' fingerprint.
+    let o = brdf_sls(&["stats", "out"], dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        summary["fingerprint"],
+        stored_fingerprint(dir.path()).as_str()
+    );
     for args in [
         &["plot", "out"][..],
         &["report", "out"],
