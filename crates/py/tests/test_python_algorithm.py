@@ -322,3 +322,14 @@ def test_worker_processes_give_the_threads_results(tmp_path):
     assert by_key(a) == by_key(b)
     # Each trial's CPU time is its own: a worker's clock, not the parent's.
     assert all(r["result"]["ended_at"]["cpu_seconds"] > 0 for r in a)
+
+
+def test_the_command_line_names_an_entry_its_workers_cannot_import(cli, tmp_path):
+    """`brdf-sls run` checks the entry in its first worker, before any trial runs: bad input."""
+    spec = write_spec(tmp_path, python_entry("no_such_module:f"))
+    env = {**os.environ, "BRDF_SLS_PYTHON": sys.executable, "PYTHONPATH": TESTS}
+    p = subprocess.run([str(cli.binary), "run", str(spec), "--out", str(tmp_path / "out")],
+                       capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert "algorithm `PY`" in p.stderr and "cannot import `no_such_module`: ModuleNotFoundError" in p.stderr, p.stderr
+    assert not (tmp_path / "out" / "trials.jsonl").exists()
