@@ -152,9 +152,7 @@ impl PyDataSet {
             drop_negative,
             drop_below_horizon: !keep_below_horizon,
         };
-        let (data, report) = py
-            .detach(|| brdf_fit::load_data(&fs))
-            .map_err(input_err)?;
+        let (data, report) = py.detach(|| brdf_fit::load_data(&fs)).map_err(input_err)?;
         Ok(PyDataSet::new(data, Some(report.to_string())))
     }
 

@@ -56,9 +56,8 @@ pub fn fit(
 ) -> PyResult<Py<PyAny>> {
     // The command line's order of checks, so the first error reported is the same.
     brdf_fit::check_budget(Surface::Python, cpu_seconds, target).map_err(input_err)?;
-    let algorithm =
-        brdf_fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
-            .map_err(input_err)?;
+    let algorithm = brdf_fit::algorithm_config(Surface::Python, algorithm, settings(config)?)
+        .map_err(input_err)?;
     let model = crate::support::model_spec(family, lobes, kind, exponent, fixed)?;
     let kernel: Kernel = kernel.parse().map_err(input_err)?;
     let descent: sls::DescentModel = descent.parse().map_err(input_err)?;
