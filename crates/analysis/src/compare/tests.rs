@@ -77,6 +77,7 @@ fn entry(scale: u64) -> Entry {
         records: (0..30)
             .map(|i| trial(i, Some(scale * 1000 * (u64::from(i) + 1))))
             .collect(),
+        stats: Vec::new(),
     }
 }
 
@@ -99,8 +100,8 @@ fn a_clearly_slower_b_is_slower_and_the_reverse_faster() {
     // Medians 15000 and 60000 evaluations (the 15th of 30 successes): B's is 4 times A's.
     assert_eq!(m.a.quantiles[2], Some(15000.0));
     assert_eq!(m.median_change, Some(3.0));
-    assert!(m.p_holm.unwrap() < 1e-6, "{m:?}");
-    assert!(m.hazard_ratio.unwrap() > 1.0);
+    assert!(m.test.p_holm.unwrap() < 1e-6, "{m:?}");
+    assert!(m.test.effect.unwrap() > 1.0);
     let c = compare(&[slow], &[fast], Options::default());
     assert_eq!(verdicts(&c), vec![Verdict::Faster]);
     assert_eq!(c.slower(), 0);
@@ -112,7 +113,7 @@ fn identical_results_show_no_significant_difference() {
     assert_eq!(verdicts(&c), vec![Verdict::NoDifference]);
     let m = &c.rows[0].measures[0];
     assert_eq!(m.median_change, Some(0.0));
-    assert!(m.p.unwrap() > 0.99, "{m:?}");
+    assert!(m.test.p.unwrap() > 0.99, "{m:?}");
 }
 
 #[test]
@@ -235,7 +236,12 @@ fn holm_adjusts_over_the_pairs() {
     let ps: Vec<(f64, f64)> = c
         .rows
         .iter()
-        .map(|r| (r.measures[0].p.unwrap(), r.measures[0].p_holm.unwrap()))
+        .map(|r| {
+            (
+                r.measures[0].test.p.unwrap(),
+                r.measures[0].test.p_holm.unwrap(),
+            )
+        })
         .collect();
     // Two equal p-values: Holm multiplies the smallest by 2 and keeps the order.
     assert_eq!(ps.len(), 2);

@@ -14,7 +14,7 @@ pub fn change_text(c: Option<f64>) -> String {
 
 /// A p-value with its Holm-adjusted value, e.g. `0.0012 (Holm 0.0036)`.
 pub fn p_text(m: &MeasureRow) -> String {
-    match (m.p, m.p_holm) {
+    match (m.test.p, m.test.p_holm) {
         (Some(p), Some(h)) => format!("{} (Holm {})", p_fmt(p), p_fmt(h)),
         _ => "-".into(),
     }

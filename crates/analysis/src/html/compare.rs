@@ -135,7 +135,7 @@ fn measure_cells(m: Option<&MeasureRow>) -> Vec<String> {
             fmt_num(m.b.ert),
             change_text(m.ert_change)
         ),
-        format!("{}; HR {}", p_text(m), fmt_num(m.hazard_ratio)),
+        format!("{}; HR {}", p_text(m), fmt_num(m.test.effect)),
     ]
 }
 

@@ -18,7 +18,7 @@ pub mod wellformed;
 
 pub use compare::compare_page;
 pub use provenance::machine_text;
-pub use report::report_page;
+pub use report::{report_page, report_page_of};
 pub use stress::stress_page;
 
 /// Errors building a page.

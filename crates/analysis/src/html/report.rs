@@ -3,29 +3,26 @@
 
 use super::figures::figure;
 use super::{PageError, anchor, document, escape, para, provenance, section, tables};
+use crate::analysis::Analysis;
 use crate::folder::Folder;
-use crate::report::{charts, compute_stats};
-use crate::stats;
-use brdf_experiment::spec::PlotKind;
 
-/// Charts every page shows, whatever the spec draws to files: RTDs in both measures, tuning
-/// sweeps (where the spec sweeps), traces and error-time curves.
-const PAGE_KINDS: [PlotKind; 5] = [
-    PlotKind::Rtd,
-    PlotKind::RtdEvaluations,
-    PlotKind::Sweep,
-    PlotKind::Trace,
-    PlotKind::ErrorTime,
-];
-
-/// The whole report page of `folders` (one section each, in order).
+/// The whole report page of `folders` (one section each, in order), each analysed here.
 pub fn report_page(folders: &[Folder]) -> Result<String, PageError> {
-    let names: Vec<String> = folders.iter().map(|f| f.spec.name.clone()).collect();
+    let analyses: Vec<Analysis> = folders.iter().map(Folder::analysis).collect();
+    let pairs: Vec<(&Folder, &Analysis)> = folders.iter().zip(&analyses).collect();
+    report_page_of(&pairs)
+}
+
+/// The whole report page of folders with their analyses (computed once, e.g. by a run for its
+/// files and its page); each analysis needs the charts of [`crate::analysis::page_kinds`].
+pub fn report_page_of(folders: &[(&Folder, &Analysis)]) -> Result<String, PageError> {
+    let names: Vec<String> = folders.iter().map(|(f, _)| f.spec.name.clone()).collect();
     let title = format!("brdf-sls report: {}", names.join(", "));
     let mut body = format!("<h1>{}</h1>\n", escape(&title));
-    body.push_str(&contents_nav(folders));
-    for (i, f) in folders.iter().enumerate() {
-        body.push_str(&folder_section(f, &format!("r{}", i + 1))?);
+    let only: Vec<&Folder> = folders.iter().map(|(f, _)| *f).collect();
+    body.push_str(&contents_nav(&only));
+    for (i, (f, a)) in folders.iter().enumerate() {
+        body.push_str(&folder_section(f, a, &format!("r{}", i + 1))?);
     }
     body.push_str(&para(
         "note",
@@ -35,7 +32,7 @@ pub fn report_page(folders: &[Folder]) -> Result<String, PageError> {
 }
 
 /// Links to each folder's sections.
-fn contents_nav(folders: &[Folder]) -> String {
+fn contents_nav(folders: &[&Folder]) -> String {
     let mut s = String::from("<nav>\n<ul>\n");
     for (i, f) in folders.iter().enumerate() {
         let id = format!("r{}", i + 1);
@@ -57,7 +54,7 @@ fn contents_nav(folders: &[Folder]) -> String {
     s
 }
 
-fn folder_section(f: &Folder, id: &str) -> Result<String, PageError> {
+fn folder_section(f: &Folder, analysis: &Analysis, id: &str) -> Result<String, PageError> {
     let mut s = String::new();
     let (present, planned) = f.progress();
     if present < planned {
@@ -78,21 +75,17 @@ below cover those only (run the spec again to resume)."
         &(provenance::summary(f) + &provenance::sessions(f)),
     ));
     let records = f.records();
-    let report = compute_stats(&f.spec, &records);
-    let groups = stats::group(&records, &f.spec.instance_names(), &f.spec.config_labels());
-    let mut kinds = PAGE_KINDS.to_vec();
-    kinds.extend(f.spec.plots.draw.iter().filter(|k| !PAGE_KINDS.contains(k)));
-    let all_charts = charts(&f.spec, &groups, &kinds);
+    let report = &analysis.stats;
     for inst in &f.spec.instances {
         let mut body = best_known_line(inst);
         body.push_str("<h4>Success, median and ERT</h4>\n");
-        body.push_str(&tables::success_table(&report, &inst.name));
+        body.push_str(&tables::success_table(report, &inst.name));
         body.push_str("<h4>Pairwise tests (Holm over the pairs of each target and measure)</h4>\n");
-        body.push_str(&tables::tests_table(&report, &inst.name));
+        body.push_str(&tables::tests_table(report, &inst.name));
         body.push_str("<h4>Final RMSE</h4>\n");
-        body.push_str(&tables::finals_table(&report, &inst.name));
+        body.push_str(&tables::finals_table(report, &inst.name));
         body.push_str("<h4>Charts</h4>\n");
-        for c in all_charts.iter().filter(|c| c.instance == inst.name) {
+        for c in analysis.charts.iter().filter(|c| c.instance == inst.name) {
             body.push_str(&figure(&c.chart, &anchor(&[id, &c.stem]))?);
         }
         body.push_str("<h4>Best fit</h4>\n");

@@ -2,7 +2,7 @@
 //! pairwise tests with Holm's correction; final quality; the best fit's parameters.
 
 use super::{escape, table};
-use crate::stats::{MeasureSummary, PairTest, StatsReport, fmt_num};
+use crate::stats::{MeasureSummary, StatsReport, TESTS, Test, direction_text, fmt_num, pairwise};
 use brdf_experiment::spec::InstanceSpec;
 use brdf_experiment::store::TrialRecord;
 
@@ -68,53 +68,66 @@ fn pf(p: f64) -> String {
     }
 }
 
-fn dominance(t: &PairTest) -> String {
-    match (t.a_dominates, t.b_dominates) {
-        (true, _) => format!("{} dominates", escape(&t.a)),
-        (_, true) => format!("{} dominates", escape(&t.b)),
-        _ => "neither".into(),
-    }
+/// The tests in the order the page shows them: the primary test first, then the other
+/// p-value tests, then the direction-only ones.
+fn page_order() -> Vec<&'static Test> {
+    let primary = pairwise::primary();
+    let mut tests = vec![primary];
+    tests.extend(TESTS.iter().filter(|t| t.p.is_some() && **t != primary));
+    tests.extend(TESTS.iter().filter(|t| t.p.is_none()));
+    tests
 }
 
-/// The pairwise tests of one instance: log-rank, Mann-Whitney and KS p-values with their
-/// Holm-adjusted values (over the pairs of each target and measure).
+/// The pairwise tests of one instance: each test's p-value with its Holm-adjusted value (over
+/// the pairs of each target and measure) and effect, and the direction-only tests' outcomes.
 pub fn tests_table(report: &StatsReport, instance: &str) -> String {
+    let order = page_order();
     let rows: Vec<Vec<String>> = report
         .tests
         .iter()
         .filter(|t| t.instance == instance)
         .map(|t| {
-            vec![
+            let mut row = vec![
                 t.target.to_string(),
                 t.measure.label().to_string(),
                 escape(&t.a),
                 escape(&t.b),
-                p_holm(t.lr_p, t.lr_p_holm),
-                num(t.lr_hazard_ratio),
-                p_holm(t.mw_p, t.mw_p_holm),
-                p_holm(t.ks_p, t.ks_p_holm),
-                dominance(t),
-            ]
+            ];
+            for test in &order {
+                let Some(r) = t.result(test) else {
+                    row.push("-".into());
+                    continue;
+                };
+                if test.p.is_some() {
+                    row.push(p_holm(r.p, r.p_holm));
+                    if test.effect.is_some() {
+                        row.push(num(r.effect));
+                    }
+                } else {
+                    row.push(escape(&direction_text(r, &t.a, &t.b)));
+                }
+            }
+            row
         })
         .collect();
     if rows.is_empty() {
         return "<p class=\"note\">One configuration only: no pairwise tests.</p>\n".into();
     }
-    table(
-        "tests",
-        &[
-            "target RMSE",
-            "measure",
-            "A",
-            "B",
-            "log-rank p (Holm)",
-            "hazard ratio A/B",
-            "Mann-Whitney p (Holm)",
-            "KS p (Holm)",
-            "RTD domination",
-        ],
-        &rows,
-    )
+    let mut head: Vec<String> = ["target RMSE", "measure", "A", "B"]
+        .map(String::from)
+        .to_vec();
+    for test in &order {
+        if test.p.is_some() {
+            head.push(format!("{} p (Holm)", test.name));
+            if let Some(e) = &test.effect {
+                head.push(e.name.to_string());
+            }
+        } else {
+            head.push(test.name.to_string());
+        }
+    }
+    let head: Vec<&str> = head.iter().map(String::as_str).collect();
+    table("tests", &head, &rows)
 }
 
 /// Final RMSE per trial and when trials ended (the paper's Table 5).

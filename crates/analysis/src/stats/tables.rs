@@ -1,82 +1,65 @@
 //! The statistics as CSV files and as the table printed after a run.
 
-use super::{Measure, PairTest, StatsReport};
+use super::{Cell, Direction, Measure, PairTest, StatsReport, TESTS, TestResult};
 
-/// An optional statistic: empty when there is none (no test was possible); an infinite one
-/// is `inf`.
-fn opt_none(v: Option<f64>) -> String {
-    v.map_or_else(String::new, |x| format!("{x}"))
-}
-
-/// An optional time: `inf` when there is none (the target was not reached).
-fn opt(v: Option<f64>) -> String {
-    v.map_or_else(|| "inf".to_string(), |x| format!("{x}"))
-}
-
-/// The per-configuration statistics as CSV (one row per instance, configuration, target, measure).
+/// The per-configuration statistics as CSV (one row per instance, configuration, target,
+/// measure); the columns after `measure` are [`MeasureSummary::cells`](super::MeasureSummary::cells).
 pub fn configs_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,config,target,measure,trials,successes,success_rate,q10,q25,q50,q75,q90,ert,ert_sd,ert_p10,ert_p50,ert_p90,restart_p10,restart_p50,restart_p90,km_censoring\n",
-    );
+    let mut s = String::new();
     for c in &report.configs {
         for (m, ms) in [
             (Measure::CpuSeconds, &c.cpu),
             (Measure::Evaluations, &c.evaluations),
         ] {
-            let q: Vec<String> = ms.quantiles.iter().map(|v| opt(*v)).collect();
-            let r = ms.restarts.map_or([None; 3], |r| r.map(Some));
-            let fields = [
+            let cells = ms.cells();
+            if s.is_empty() {
+                s = header(&["instance", "config", "target", "measure"], &cells);
+            }
+            let mut fields = vec![
                 csv_field(&c.instance),
                 csv_field(&c.config),
                 c.target.to_string(),
                 m.short().to_string(),
-                ms.trials.to_string(),
-                ms.successes.to_string(),
-                ms.success_rate.to_string(),
-                q.join(","),
-                opt(ms.ert),
-                opt(ms.ert_sd),
-                opt(ms.ert_p10),
-                opt(ms.ert_p50),
-                opt(ms.ert_p90),
-                opt(r[0]),
-                opt(r[1]),
-                opt(r[2]),
-                ms.km_censoring.to_string(),
             ];
+            fields.extend(cells.iter().map(|(_, v)| v.csv()));
             s.push_str(&fields.join(","));
             s.push('\n');
         }
     }
+    if s.is_empty() {
+        let empty = super::summarise(&[], 0, 0);
+        s = header(&["instance", "config", "target", "measure"], &empty.cells());
+    }
     s
 }
 
-/// The pairwise tests as CSV.
+/// A CSV header: the leading columns, then the cells' names.
+fn header(first: &[&str], cells: &[(&'static str, Cell)]) -> String {
+    let mut names: Vec<&str> = first.to_vec();
+    names.extend(cells.iter().map(|c| c.0));
+    names.join(",") + "\n"
+}
+
+/// The pairwise tests as CSV: the pair, then every test's columns in [`TESTS`] order.
 pub fn tests_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,target,measure,a,b,mw_u,mw_p,mw_p_holm,ks_d,ks_p,ks_p_holm,a_dominates,b_dominates,lr_chi2,lr_p,lr_p_holm,lr_hazard_ratio\n",
-    );
+    let mut names = vec!["instance", "target", "measure", "a", "b"];
+    for t in TESTS {
+        names.extend(TestResult::empty(t).cells().iter().map(|c| c.0));
+    }
+    let mut s = names.join(",") + "\n";
     for t in &report.tests {
-        s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        let mut fields = vec![
             csv_field(&t.instance),
-            t.target,
-            t.measure.short(),
+            t.target.to_string(),
+            t.measure.short().to_string(),
             csv_field(&t.a),
             csv_field(&t.b),
-            opt_none(t.mw_u),
-            opt_none(t.mw_p),
-            opt_none(t.mw_p_holm),
-            opt_none(t.ks_d),
-            opt_none(t.ks_p),
-            opt_none(t.ks_p_holm),
-            t.a_dominates,
-            t.b_dominates,
-            opt_none(t.lr_chi2),
-            opt_none(t.lr_p),
-            opt_none(t.lr_p_holm),
-            opt_none(t.lr_hazard_ratio)
-        ));
+        ];
+        for r in &t.results {
+            fields.extend(r.cells().iter().map(|(_, v)| v.csv()));
+        }
+        s.push_str(&fields.join(","));
+        s.push('\n');
     }
     s
 }
@@ -176,28 +159,44 @@ pub fn table(report: &StatsReport) -> String {
     } else if !sig.is_empty() {
         out.push_str("\nPairwise (CPU time; Holm-adjusted p-values; censored runs = +inf)\n");
         for t in sig {
-            let dom = if t.a_dominates {
-                format!("{} dominates", t.a)
-            } else if t.b_dominates {
-                format!("{} dominates", t.b)
-            } else {
-                "curves cross".into()
-            };
             out.push_str(&format!(
-                "  {} q={}: {} vs {}: Mann-Whitney p={}, KS p={}, log-rank p={} (HR {}), {}\n",
+                "  {} q={}: {} vs {}: {}\n",
                 t.instance,
                 t.target,
                 t.a,
                 t.b,
-                fmt_p(t.mw_p_holm),
-                fmt_p(t.ks_p_holm),
-                fmt_p(t.lr_p_holm),
-                fmt_num(t.lr_hazard_ratio),
-                dom
+                pair_text(t)
             ));
         }
     }
     out
+}
+
+/// A pair's tests in one line: each p-value test's Holm-adjusted p-value (with its effect),
+/// then each direction-only test's outcome.
+fn pair_text(t: &PairTest) -> String {
+    let mut parts = Vec::new();
+    for r in t.results.iter().filter(|r| r.test.p.is_some()) {
+        let mut s = format!("{} p={}", r.test.name, fmt_p(r.p_holm));
+        if let Some(e) = &r.test.effect {
+            s.push_str(&format!(" ({} {})", e.short, fmt_num(r.effect)));
+        }
+        parts.push(s);
+    }
+    for r in t.results.iter().filter(|r| r.test.p.is_none()) {
+        parts.push(direction_text(r, &t.a, &t.b));
+    }
+    parts.join(", ")
+}
+
+/// A direction-only test's outcome in words (`AED dominates`, `curves cross`).
+pub fn direction_text(r: &TestResult, a: &str, b: &str) -> String {
+    let [sooner, neither] = r.test.direction_words;
+    match r.direction {
+        Direction::A => format!("{a} {sooner}"),
+        Direction::B => format!("{b} {sooner}"),
+        Direction::Neither => neither.to_string(),
+    }
 }
 
 fn finals_table(report: &StatsReport, width: usize) -> String {

@@ -29,7 +29,10 @@ pub fn compare(a: CompareArgs) -> Result<()> {
         );
     }
     let (fa, fb) = (read_folder(&a.a)?, read_folder(&a.b)?);
-    let (ea, eb) = (entries(&fa), entries(&fb));
+    let (ea, eb) = (
+        entries(&fa, &fa.statistics()),
+        entries(&fb, &fb.statistics()),
+    );
     let options = Options {
         alpha: a.alpha,
         min_effect: a.min_effect,

@@ -55,6 +55,16 @@ pub fn write_report_page(folders: &[Folder], out: &Path) -> Result<()> {
     write_page(out, &page)
 }
 
+/// Builds the report page of folders with their analyses (computed once, e.g. by a run) and
+/// writes it to `out` atomically.
+pub fn write_report_page_of(
+    folders: &[(&Folder, &brdf_analysis::analysis::Analysis)],
+    out: &Path,
+) -> Result<()> {
+    let page = brdf_analysis::html::report_page_of(folders).context("building the report page")?;
+    write_page(out, &page)
+}
+
 /// Writes a page atomically (a reader never sees half of it).
 pub fn write_page(out: &Path, page: &str) -> Result<()> {
     brdf_experiment::store::write_atomic(out, page.as_bytes())

@@ -97,18 +97,21 @@ pub fn run(a: RunArgs) -> Result<()> {
             String::new()
         }
     );
-    let report = brdf_analysis::report::write_report(
-        spec,
-        &outcome.records,
-        &outcome.sessions,
-        &out,
-        !a.no_plots,
-    )
-    .context("writing statistics and plots")?;
+    // One analysis for the files and the page.
+    let kinds = if a.no_plots {
+        Vec::new()
+    } else {
+        brdf_analysis::analysis::page_kinds(spec)
+    };
+    let analysis = brdf_analysis::analysis::Analysis::new(spec, &outcome.records, &kinds);
+    let report =
+        brdf_analysis::report::write_analysis(spec, analysis, &outcome.sessions, &out, !a.no_plots)
+            .context("writing statistics and plots")?;
     let mut written = report.files.len();
     if !a.no_plots {
         let folder = brdf_analysis::folder::Folder::from_run(&out, spec.clone(), &outcome);
-        super::report::write_report_page(&[folder], &out.join("report.html"))?;
+        let page = out.join("report.html");
+        super::report::write_report_page_of(&[(&folder, &report.analysis)], &page)?;
         written += 1;
     }
     say!("{}", report.table);
