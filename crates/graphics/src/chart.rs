@@ -298,27 +298,78 @@ impl Figure for Chart {
     }
 }
 
-fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
-    let (x0, x1) = c.x_range.unwrap_or_else(|| c.data_range(0, c.x_log));
-    let (y0, y1) = c.y_range.unwrap_or_else(|| c.data_range(1, c.y_log));
-    // plotters' log axis only labels powers of ten: below one decade it would show no tick
-    // labels at all, so such axes are drawn linear instead.
-    let x_log = c.x_log && x0 > 0.0 && x1 / x0 >= 10.0;
-    let y_log = c.y_log && y0 > 0.0 && y1 / y0 >= 10.0;
-    if x_log != c.x_log || y_log != c.y_log {
-        let mut lin = c.clone();
-        lin.x_log = x_log;
-        lin.y_log = y_log;
-        lin.x_range = Some((x0, x1));
-        lin.y_range = Some((y0, y1));
-        if !x_log {
-            lin.x_label = lin.x_label.replace(" (log scale)", "");
+/// The largest magnitude an axis reaches, and the widest ratio of a log axis: plotters'
+/// tick loops never end over an infinite or subnormal range and take a huge time near f64's
+/// limits, so ranges are brought inside these bounds (a point beyond is drawn at the edge).
+const AXIS_LIMIT: f64 = 1e300;
+
+/// `(lo, hi)` as a range plotters can draw: finite, increasing, within [`AXIS_LIMIT`] and, on a
+/// log axis, positive and at most 300 decades wide.
+fn drawable((lo, hi): (f64, f64), log: bool) -> (f64, f64) {
+    if log {
+        let hi = if hi.is_finite() && hi > 0.0 {
+            hi.clamp(1.0 / AXIS_LIMIT, AXIS_LIMIT)
+        } else {
+            AXIS_LIMIT
+        };
+        // A padded range may reach 0 below the smallest value: the widest range then.
+        let lo = if lo.is_finite() && lo > 0.0 { lo } else { 0.0 };
+        let lo = lo.max(hi / AXIS_LIMIT).max(1.0 / AXIS_LIMIT);
+        if lo < hi { (lo, hi) } else { (hi / 10.0, hi) }
+    } else {
+        let bound = |v: f64, or: f64| {
+            if v.is_nan() {
+                or
+            } else {
+                v.clamp(-AXIS_LIMIT, AXIS_LIMIT)
+            }
+        };
+        let (lo, hi) = (bound(lo, 0.0), bound(hi, 1.0));
+        if lo < hi {
+            (lo, hi)
+        } else {
+            (lo - 0.5 - lo.abs() * 0.1, hi + 0.5 + hi.abs() * 0.1)
         }
-        if !y_log {
-            lin.y_label = lin.y_label.replace(" (log scale)", "");
-        }
-        return render_any(root, &lin);
     }
+}
+
+impl Chart {
+    /// The chart as it is drawn: both ranges fixed (from the data unless set) and drawable,
+    /// and a log axis spanning less than a decade drawn linear (plotters' log axis labels only
+    /// powers of ten, so it would show no tick label), its " (log scale)" dropped from the
+    /// label. Captions should describe this chart, not the one asked for.
+    pub fn resolved(&self) -> Chart {
+        let mut c = self.clone();
+        let (x0, x1) = drawable(
+            self.x_range
+                .unwrap_or_else(|| self.data_range(0, self.x_log)),
+            self.x_log,
+        );
+        let (y0, y1) = drawable(
+            self.y_range
+                .unwrap_or_else(|| self.data_range(1, self.y_log)),
+            self.y_log,
+        );
+        c.x_log = self.x_log && x1 / x0 >= 10.0;
+        c.y_log = self.y_log && y1 / y0 >= 10.0;
+        if !c.x_log {
+            c.x_label = c.x_label.replace(" (log scale)", "");
+        }
+        if !c.y_log {
+            c.y_label = c.y_label.replace(" (log scale)", "");
+        }
+        c.x_range = Some((x0, x1));
+        c.y_range = Some((y0, y1));
+        c
+    }
+}
+
+fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
+    let c = &c.resolved();
+    let ((x0, x1), (y0, y1)) = (
+        c.x_range.unwrap_or((0.0, 1.0)),
+        c.y_range.unwrap_or((0.0, 1.0)),
+    );
     match (c.x_log, c.y_log) {
         (false, false) => render(root, c, x0..x1, y0..y1),
         (true, false) => render(root, c, (x0..x1).log_scale(), y0..y1),
@@ -569,6 +620,45 @@ mod tests {
                 (3.0, 1.0)
             ]
         );
+    }
+
+    /// plotters' tick loops hang over an infinite or subnormal range: times of 1e300 and more
+    /// (the range is padded past f64's limit) or subnormal ones must still draw, at once.
+    #[test]
+    fn extreme_values_draw_within_bounds() {
+        for (x_log, y_log) in [(true, true), (false, false), (true, false)] {
+            for pts in [
+                vec![(1e-3, 0.5), (1e300, 1.0)],
+                vec![(1e-3, 0.5), (1e306, 1e306)],
+                vec![(5e-324, 1e-310), (1.0, 1.0)],
+                vec![(f64::MAX, 0.5), (f64::MIN_POSITIVE, 2.0)],
+            ] {
+                let mut c = Chart::new("extreme", "x (log scale)", "y");
+                c.x_log = x_log;
+                c.y_log = y_log;
+                c.series.push(Series {
+                    label: Some("a".into()),
+                    points: pts.clone(),
+                    style: Style::Line,
+                    color: color(0),
+                    band: Vec::new(),
+                });
+                let start = std::time::Instant::now();
+                let svg = crate::files::svg_text(&c, SIZE).unwrap();
+                assert!(svg.contains("extreme"));
+                assert!(start.elapsed().as_secs() < 10, "{pts:?}");
+                let r = c.resolved();
+                let ((x0, x1), (y0, y1)) = (r.x_range.unwrap(), r.y_range.unwrap());
+                assert!(x0.is_finite() && x1.is_finite() && x0 < x1, "{pts:?}");
+                assert!(y0.is_finite() && y1.is_finite() && y0 < y1, "{pts:?}");
+            }
+        }
+        // A log axis within one decade is drawn linear, and its label says so.
+        let mut c = Chart::new("narrow", "x (log scale)", "y");
+        c.x_log = true;
+        c.x_range = Some((2.0, 5.0));
+        let r = c.resolved();
+        assert!(!r.x_log && r.x_label == "x", "{}", r.x_label);
     }
 
     #[test]

@@ -271,3 +271,28 @@ fn the_table_has_a_line_per_pair_and_a_summary() {
     );
     assert!(lines[2].contains("1 significantly slower"), "{t}");
 }
+
+/// `format!("{:<w$}")` panics from width 65,536 on; a results folder is input and may hold a
+/// label or a data hash that long, and the table pads every cell to its column's width.
+#[test]
+fn the_table_takes_cells_of_any_length() {
+    let long = "L".repeat(70_000);
+    let mut a = entry(1);
+    a.config = long.clone();
+    let mut b = entry(1);
+    b.config = long.clone();
+    let c = compare(&[a, entry(1)], &[b, entry(1)], Options::default());
+    let t = table(&c);
+    assert_eq!(t.matches(&long).count(), 1, "one row per pair");
+    let rows: Vec<&str> = t.lines().filter(|l| l.starts_with("i ")).collect();
+    assert_eq!(rows.len(), 2);
+    // Columns stay aligned: the short label is padded to the long one's width.
+    assert_eq!(
+        rows[0].find("no significant"),
+        rows[1].find("no significant")
+    );
+    let mut hashed = entry(1);
+    hashed.conditions.data_hash = Some("h".repeat(70_000));
+    let c = compare(&[entry(1)], &[hashed], Options::default());
+    assert!(table(&c).contains(&"h".repeat(70_000)));
+}

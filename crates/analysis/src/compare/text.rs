@@ -1,7 +1,7 @@
 //! The comparison as a plain-text table (what `brdf-sls compare` prints).
 
 use super::{Comparison, MeasureRow, Row};
-use crate::stats::fmt_num;
+use crate::stats::{fmt_num, pad_right};
 
 /// A relative change as a signed percentage (`+inf%` when only A reached).
 pub fn change_text(c: Option<f64>) -> String {
@@ -91,7 +91,7 @@ pub fn table(c: &Comparison) -> String {
         let cells: Vec<String> = r
             .iter()
             .zip(&widths)
-            .map(|(s, w)| format!("{s:<w$}"))
+            .map(|(s, w)| pad_right(s, *w))
             .collect();
         out.push_str(cells.join("  ").trim_end());
         out.push('\n');

@@ -109,8 +109,16 @@ pub fn para(class: &str, text: &str) -> String {
     }
 }
 
-/// A Unix time as an ISO 8601 UTC date and time (`2026-12-03T17:40:08Z`).
+/// The last second ISO 8601 writes with a four-digit year (9999-12-31T23:59:59Z).
+const LAST_DATE_UNIX: u64 = 253_402_300_799;
+
+/// A Unix time as an ISO 8601 UTC date and time (`2026-12-03T17:40:08Z`); a time after the
+/// year 9999 (a results file is input: its header may hold anything) is given as the number
+/// of seconds it is.
 pub fn date(unix: u64) -> String {
+    if unix > LAST_DATE_UNIX {
+        return format!("{unix} s after 1970 (after the year 9999: not a date)");
+    }
     let t = std::time::UNIX_EPOCH + std::time::Duration::from_secs(unix);
     humantime::format_rfc3339_seconds(t).to_string()
 }
@@ -141,6 +149,15 @@ mod tests {
     fn date_is_utc_iso_8601() {
         assert_eq!(date(0), "1970-01-01T00:00:00Z");
         assert_eq!(date(1_764_780_000), "2025-12-03T16:40:00Z");
+        assert_eq!(date(LAST_DATE_UNIX), "9999-12-31T23:59:59Z");
+        // Headers are input: any u64 must give text, not a panic.
+        for unix in [LAST_DATE_UNIX + 1, 1_000_000_000_000, u64::MAX] {
+            let d = date(unix);
+            assert!(
+                d.contains(&unix.to_string()) && d.contains("not a date"),
+                "{d}"
+            );
+        }
     }
 
     #[test]

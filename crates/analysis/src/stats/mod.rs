@@ -49,7 +49,9 @@ pub use rtd::{
     Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier, outcome,
     quantile,
 };
-pub use tables::{configs_csv, csv_field, direction_text, fmt_num, fmt_target, table, tests_csv};
+pub use tables::{
+    configs_csv, csv_field, direction_text, fmt_num, fmt_target, pad_right, table, tests_csv,
+};
 
 use brdf_experiment::seed::StableHasher;
 use brdf_experiment::store::TrialRecord;

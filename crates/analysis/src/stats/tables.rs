@@ -236,7 +236,7 @@ fn finals_table(report: &StatsReport, width: usize) -> String {
 
 /// `s` left-aligned in `width` characters. Unlike `format!("{s:<width$}")`, which panics for
 /// widths from 65,536 on, this takes any width (labels of older results are not limited).
-fn pad_right(s: &str, width: usize) -> String {
+pub fn pad_right(s: &str, width: usize) -> String {
     let fill = width.saturating_sub(s.chars().count());
     let mut out = String::with_capacity(s.len() + fill);
     out.push_str(s);
