@@ -143,11 +143,12 @@ fn run_report_and_compare_end_to_end() {
     wellformed::check(&cpage).unwrap();
     assert!(cpage.contains("A (solid) vs B (dashed)"));
 
-    // B ten times slower: exit status 1 (alpha raised: 4 trials per side are few).
+    // B ten times slower: exit status 3, the verdict's own (alpha raised: 4 trials per side
+    // are few); 1 stays for failures such as a page that cannot be written.
     copy_dir(&dir.join("b"), &dir.join("slow"));
     slow_down(&dir.join("slow"), 10);
     let t = expect(
-        1,
+        3,
         &["compare", "a", "slow", "--alpha", "0.5", "--out", "s.html"],
         dir,
     );
@@ -160,6 +161,9 @@ fn run_report_and_compare_end_to_end() {
         &["compare", "slow", "a", "--alpha", "0.5", "--out", "s.html"],
         dir,
     );
+    // A page that cannot be written (its folder is a file): a failure, 1.
+    let t = expect(1, &["compare", "a", "b", "--out", "a/report.html/c.html"], dir);
+    assert!(t.contains("Not a directory"), "{t}");
 
     // A different budget: nothing comparable, bad input, the reason printed.
     let other = common::TINY.replace("evaluations = 400000", "evaluations = 300000");

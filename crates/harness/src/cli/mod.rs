@@ -89,7 +89,8 @@ pub enum Command {
     /// RTDs, error-time curves, traces, sweeps and the best fit.
     Report(ReportArgs),
     /// Compare two results folders (before and after): a verdict per instance, configuration
-    /// and target, and an HTML page; exits 1 when B is significantly slower anywhere.
+    /// and target, and an HTML page; exits 3 when B is significantly slower anywhere (1: a
+    /// failure, 2: bad input).
     Compare(CompareArgs),
     /// Print a shell completion script (bash, zsh, fish, powershell, elvish).
     Completions(CompletionsArgs),
