@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{Analysis, page_kinds, plan_records};
+use crate::analysis::{Analysis, ChartSet, plan_records};
 use crate::report::{StoredSpecError, stored_spec};
 use brdf_experiment::spec::Spec;
 use brdf_experiment::store::{Contents, StoreError, TrialRecord, read_results, results_file};
@@ -129,12 +129,12 @@ impl Folder {
 
     /// The analysis of the folder's records with the charts its page shows.
     pub fn analysis(&self) -> Analysis {
-        Analysis::new(&self.spec, &self.contents.records, &page_kinds(&self.spec))
+        Analysis::new(&self.spec, &self.contents.records, ChartSet::Page)
     }
 
     /// The analysis of the folder's records without charts (statistics only).
     pub fn statistics(&self) -> Analysis {
-        Analysis::new(&self.spec, &self.contents.records, &[])
+        Analysis::new(&self.spec, &self.contents.records, ChartSet::None)
     }
 
     /// Trials present and planned.

@@ -16,10 +16,10 @@ use std::path::{Path, PathBuf};
 use brdf_graphics::PlotError;
 use brdf_graphics::chart as plot;
 
-use crate::analysis::Analysis;
+use crate::analysis::{Analysis, ChartSet};
 pub use crate::analysis::{NamedChart, charts, plan_records};
 use crate::stats::{self, StatsReport};
-use brdf_experiment::spec::{PlotKind, Source, Spec};
+use brdf_experiment::spec::{Source, Spec};
 use brdf_experiment::store::{Contents, Session, TrialRecord, write_atomic};
 
 /// Errors writing a report.
@@ -101,7 +101,7 @@ fn write(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<(), Repo
 
 /// Computes statistics only (no files, no charts).
 pub fn compute_stats(spec: &Spec, records: &[TrialRecord]) -> StatsReport {
-    Analysis::new(spec, records, &[]).stats
+    Analysis::new(spec, records, ChartSet::None).stats
 }
 
 /// Writes statistics (JSON, CSV, table) and, when `plots` is set, the spec's plots.
@@ -112,10 +112,14 @@ pub fn write_report(
     out: &Path,
     plots: bool,
 ) -> Result<Report, ReportError> {
-    let kinds: &[PlotKind] = if plots { &spec.plots.draw } else { &[] };
+    let charts = if plots {
+        ChartSet::Files
+    } else {
+        ChartSet::None
+    };
     write_analysis(
         spec,
-        Analysis::new(spec, records, kinds),
+        Analysis::new(spec, records, charts),
         sessions,
         out,
         plots,

@@ -109,12 +109,16 @@ pub fn svg_text(figure: &impl Figure, size: (u32, u32)) -> Result<String, String
         figure.draw_on(&root)?;
         root.present().map_err(|e| e.to_string())?;
     }
-    // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face first (most
-    // systems have it), any sans-serif otherwise.
-    Ok(text.replace(
+    Ok(with_font_family(text))
+}
+
+/// SVG text drawn with DejaVu Sans metrics, asking SVG viewers for that face first (most
+/// systems have it), any sans-serif otherwise.
+pub fn with_font_family(text: String) -> String {
+    text.replace(
         "font-family=\"sans-serif\"",
         "font-family=\"DejaVu Sans, sans-serif\"",
-    ))
+    )
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then

@@ -105,6 +105,27 @@ fn run_report_and_compare_end_to_end() {
         assert!(page.contains(want), "report.html lacks {want}");
     }
     assert!(!page.contains("Partial results"));
+    // The answer first: the summary (with its sentence) before the plan and provenance, and
+    // the views and explanations the reader needs.
+    let at = |s: &str| {
+        page.find(s)
+            .unwrap_or_else(|| panic!("report.html lacks {s}"))
+    };
+    assert!(at("<table class=\"summary\">") < at("<h3>Experiment and plan</h3>"));
+    assert!(at("<ul class=\"verdicts\">") < at("<h3>Provenance</h3>"));
+    for want in [
+        "lowest ERT",
+        "How to read this page",
+        "Kaplan-Meier",
+        "Best RMSE by budget - tuning",
+        "<ul class=\"legend\">",
+        "data-key=\"RPLS\"",
+        "<a href=\"stats.csv\">stats.csv</a>",
+        "<details class=\"toc\">",
+        "<details class=\"tests\">",
+    ] {
+        at(want);
+    }
     assert!(!page.contains("<script"), "the page needs no script");
     assert!(!page.contains("http://") || !page.contains("src=\"http"));
 
@@ -162,7 +183,11 @@ fn run_report_and_compare_end_to_end() {
         dir,
     );
     // A page that cannot be written (its folder is a file): a failure, 1.
-    let t = expect(1, &["compare", "a", "b", "--out", "a/report.html/c.html"], dir);
+    let t = expect(
+        1,
+        &["compare", "a", "b", "--out", "a/report.html/c.html"],
+        dir,
+    );
     assert!(t.contains("Not a directory"), "{t}");
 
     // A different budget: nothing comparable, bad input, the reason printed.

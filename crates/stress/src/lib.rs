@@ -21,6 +21,7 @@
 pub mod dd;
 pub mod diagnose;
 pub mod families;
+mod json;
 pub mod kernels;
 pub mod nist;
 pub mod reference;

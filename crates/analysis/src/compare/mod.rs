@@ -315,6 +315,3 @@ pub fn judge(m: &MeasureRow, o: &Options) -> Verdict {
         _ => Verdict::NoDifference,
     }
 }
-
-#[cfg(test)]
-mod tests;

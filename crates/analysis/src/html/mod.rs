@@ -9,14 +9,17 @@
 
 mod compare;
 mod figures;
+pub mod format;
 mod markdown;
 mod provenance;
 mod report;
 mod stress;
+mod summary;
 mod tables;
 pub mod wellformed;
 
 pub use compare::compare_page;
+pub use figures::{figure, legend};
 pub use provenance::machine_text;
 pub use report::{report_page, report_page_of};
 pub use stress::stress_page;
@@ -63,9 +66,10 @@ pub fn document(title: &str, body: &str) -> String {
     )
 }
 
-/// A table with a header row; `head` and `rows` are HTML.
+/// A table with a header row; `head` and `rows` are HTML. It scrolls sideways in its own box
+/// when wider than the page.
 pub fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
-    let mut s = format!("<table class=\"{class}\">\n<thead><tr>");
+    let mut s = format!("<div class=\"scroll\">\n<table class=\"{class}\">\n<thead><tr>");
     for h in head {
         s.push_str(&format!("<th>{h}</th>"));
     }
@@ -77,7 +81,49 @@ pub fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
         }
         s.push_str("</tr>\n");
     }
-    s.push_str("</tbody>\n</table>\n");
+    s.push_str("</tbody>\n</table>\n</div>\n");
+    s
+}
+
+/// A table with a caption (HTML), a header row and numeric columns (right-aligned, digits
+/// aligned, never wrapped), in a box that scrolls sideways on its own when it is wider than
+/// the page: the page itself never does.
+pub fn data_table(
+    class: &str,
+    caption: &str,
+    head: &[&str],
+    rows: &[Vec<String>],
+    numeric: &[usize],
+) -> String {
+    let td = |i: usize| {
+        if numeric.contains(&i) {
+            "<td class=\"num\">"
+        } else {
+            "<td>"
+        }
+    };
+    let mut s = format!("<div class=\"scroll\">\n<table class=\"{class}\">\n");
+    if !caption.is_empty() {
+        s.push_str(&format!("<caption>{caption}</caption>\n"));
+    }
+    s.push_str("<thead><tr>");
+    for (i, h) in head.iter().enumerate() {
+        let class = if numeric.contains(&i) {
+            " class=\"num\""
+        } else {
+            ""
+        };
+        s.push_str(&format!("<th{class}>{h}</th>"));
+    }
+    s.push_str("</tr></thead>\n<tbody>\n");
+    for r in rows {
+        s.push_str("<tr>");
+        for (i, c) in r.iter().enumerate() {
+            s.push_str(&format!("{}{c}</td>", td(i)));
+        }
+        s.push_str("</tr>\n");
+    }
+    s.push_str("</tbody>\n</table>\n</div>\n");
     s
 }
 

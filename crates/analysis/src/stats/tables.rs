@@ -81,6 +81,66 @@ pub fn fmt_target(t: f64) -> String {
     format!("{rounded}")
 }
 
+/// `t` with `digits` significant digits, trailing zeros dropped; in exponent form below 1e-4
+/// and from 1e6 on (`1.23457e7`).
+pub fn significant(t: f64, digits: usize) -> String {
+    if t == 0.0 || !t.is_finite() {
+        return format!("{t}");
+    }
+    let e = format!("{t:.*e}", digits.max(1) - 1);
+    if t.abs() < 1e-4 || t.abs() >= 1e6 {
+        let (m, x) = e.split_once('e').unwrap_or((&e, "0"));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            m
+        };
+        return format!("{m}e{x}");
+    }
+    let rounded: f64 = e.parse().unwrap_or(t);
+    format!("{rounded}")
+}
+
+/// The fewest significant digits (4 to 8) that keep the targets of one instance apart.
+pub fn target_digits(targets: &[f64]) -> usize {
+    (4..=8)
+        .find(|&d| {
+            let shown: Vec<String> = targets.iter().map(|&t| significant(t, d)).collect();
+            shown
+                .iter()
+                .enumerate()
+                .all(|(i, s)| shown[..i].iter().all(|o| o != s))
+        })
+        .unwrap_or(8)
+}
+
+/// A relative change in percent with two significant digits: `+1%`, `+2.5%`, `+0.38%`.
+fn percent(r: f64) -> String {
+    let p = r * 100.0;
+    let s = if p.abs() >= 10.0 {
+        format!("{p:.0}")
+    } else {
+        significant(p, 2)
+    };
+    if p >= 0.0 {
+        format!("+{s}%")
+    } else {
+        format!("{s}%")
+    }
+}
+
+/// A target RMSE for reading: `digits` significant digits ([`target_digits`] of its
+/// instance) and, when the best-known RMSE is known and the target within 10 times it, how far
+/// above it: `0.1005 (+1%)` (a noiseless instance's best-known RMSE is near 0, where a
+/// percentage means nothing).
+pub fn target_text(t: f64, best_known: Option<f64>, digits: usize) -> String {
+    let shown = significant(t, digits);
+    match best_known.filter(|b| *b > 0.0 && b.is_finite() && t / b <= 10.0) {
+        Some(b) => format!("{shown} ({})", percent(t / b - 1.0)),
+        None => shown,
+    }
+}
+
 /// Formats a number compactly for tables (`-` for none).
 pub fn fmt_num(v: Option<f64>) -> String {
     match v {

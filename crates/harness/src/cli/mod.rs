@@ -202,6 +202,10 @@ pub struct BenchArgs {
     /// lines), bars, plain, quiet.
     #[arg(long, value_parser = values::choice::<ProgressMode>(ProgressMode::NAMES), default_value = "auto")]
     pub progress: ProgressMode,
+    /// Rewrite bench.html from OUT/bench.json without measuring (after a change of the page's
+    /// layout).
+    #[arg(long)]
+    pub rewrite_page: bool,
 }
 
 /// `brdf-sls stress`.
@@ -223,6 +227,10 @@ pub struct StressArgs {
     /// Worker threads (default: $BRDF_SLS_THREADS, else all CPUs).
     #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
+    /// Rewrite stress.html and plots/ from OUT/stress.json without running the checks (after a
+    /// change of the page's layout).
+    #[arg(long)]
+    pub rewrite_page: bool,
 }
 
 /// `brdf-sls gen`.

@@ -1,6 +1,7 @@
 //! `brdf-sls run`: run or resume an experiment, then write its statistics, table and plots.
 
 use anyhow::{Context, Result};
+use brdf_analysis::analysis::ChartSet;
 use brdf_experiment::prepare::{PrepareError, prepare};
 use brdf_experiment::run::{Executor, RunOptions, SlsExecutor, default_threads, run_locked};
 use brdf_experiment::spec::Spec;
@@ -98,12 +99,12 @@ pub fn run(a: RunArgs) -> Result<()> {
         }
     );
     // One analysis for the files and the page.
-    let kinds = if a.no_plots {
-        Vec::new()
+    let charts = if a.no_plots {
+        ChartSet::None
     } else {
-        brdf_analysis::analysis::page_kinds(spec)
+        ChartSet::Page
     };
-    let analysis = brdf_analysis::analysis::Analysis::new(spec, &outcome.records, &kinds);
+    let analysis = brdf_analysis::analysis::Analysis::new(spec, &outcome.records, charts);
     let report =
         brdf_analysis::report::write_analysis(spec, analysis, &outcome.sessions, &out, !a.no_plots)
             .context("writing statistics and plots")?;

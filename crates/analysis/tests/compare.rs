@@ -1,4 +1,7 @@
-use super::*;
+//! Before and after: verdicts, matching, Holm over the pairs, and the table.
+
+use brdf_analysis::compare::*;
+use brdf_analysis::stats::Measure;
 use brdf_experiment::store::TrialRecord;
 
 const TARGET: f64 = 0.1;
