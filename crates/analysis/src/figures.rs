@@ -250,11 +250,7 @@ pub fn trace_chart(
             chart.series.push(s);
         }
     }
-    for &t in targets {
-        chart
-            .hlines
-            .push((t, format!("target {}", crate::stats::fmt_target(t))));
-    }
+    target_lines(&mut chart, targets);
     chart.y_range = trace_y_range(&rmses, targets);
     if xmin.is_finite() && xmax > 0.0 {
         chart.x_range = Some((xmin / 1.5, xmax.max(xmin * 2.0) * 1.3));
@@ -423,6 +419,15 @@ pub fn ecdf_targets_chart(
     chart
 }
 
+/// The targets as labelled horizontal reference lines (as many digits as keep them apart).
+fn target_lines(chart: &mut Chart, targets: &[f64]) {
+    let digits = crate::stats::target_digits(targets);
+    for &t in targets {
+        let label = format!("target {}", crate::stats::significant(t, digits));
+        chart.hlines.push((t, label));
+    }
+}
+
 /// Quantile `p` of sorted values (the smallest value with at least `p` of them at or below).
 fn sorted_quantile(sorted: &[f64], p: f64) -> f64 {
     if sorted.is_empty() {
@@ -462,6 +467,7 @@ pub fn fixed_budget_chart(
     );
     chart.x_log = true;
     chart.y_log = true;
+    chart.band_opacity = if groups.len() > 3 { 0.07 } else { 0.15 };
     let starts = groups.iter().flat_map(|g| &g.records).filter_map(|r| {
         r.result
             .trace
@@ -504,11 +510,7 @@ pub fn fixed_budget_chart(
         s.band = band;
         chart.series.push(s);
     }
-    for &t in targets {
-        chart
-            .hlines
-            .push((t, format!("target {}", crate::stats::fmt_target(t))));
-    }
+    target_lines(&mut chart, targets);
     chart.y_range = trace_y_range(&rmses, targets);
     chart.x_range = Some((lo / 1.2, hi * 1.2));
     chart
