@@ -36,6 +36,10 @@ pub fn report_page_of(
     let mut toc = Toc::default();
     let mut sections = String::new();
     let several = folders.len() > 1;
+    if several {
+        toc.add(2, "suite", "Across the folders");
+        sections.push_str(&suite_section(folders));
+    }
     for (i, (f, a)) in folders.iter().enumerate() {
         sections.push_str(&folder_section(
             f,
@@ -57,6 +61,53 @@ pub fn report_page_of(
         &format!("Written by brdf-sls {}.", brdf_experiment::PROGRAM_VERSION),
     ));
     Ok(document(&title, &body))
+}
+
+/// For several folders, one summary over all of them in sample-evaluations (a configuration
+/// label is one configuration in every folder; each test stays Holm-adjusted within its
+/// folder), with its ranking and significance matrix.
+fn suite_section(folders: &[(&Folder, &Analysis)]) -> String {
+    let mut merged = crate::stats::StatsReport {
+        bootstrap: 0,
+        configs: Vec::new(),
+        tests: Vec::new(),
+        finals: Vec::new(),
+    };
+    let (mut instances, mut labels, mut targets) = (Vec::new(), Vec::new(), Targets::none());
+    for (f, a) in folders {
+        let prefix = format!("{}/", f.dir.display());
+        targets.add(&f.spec, &prefix);
+        instances.extend(
+            f.spec
+                .instances
+                .iter()
+                .map(|i| format!("{prefix}{}", i.name)),
+        );
+        for l in f.spec.config_labels() {
+            if !labels.contains(&l) {
+                labels.push(l);
+            }
+        }
+        merged.configs.extend(a.stats.configs.iter().map(|c| {
+            let mut c = c.clone();
+            c.instance = format!("{prefix}{}", c.instance);
+            c
+        }));
+        merged.tests.extend(a.stats.tests.iter().map(|t| {
+            let mut t = t.clone();
+            t.instance = format!("{prefix}{}", t.instance);
+            t
+        }));
+    }
+    let sm =
+        crate::analysis::summary::summarise(&merged, &instances, &labels, Measure::Evaluations);
+    let mut s = summary::how_to_read_tables();
+    s.push_str(&summary::table(&sm, &targets, true));
+    if sm.configs.len() > 1 {
+        s.push_str(&summary::ranking(&sm));
+        s.push_str(&summary::matrix(&sm));
+    }
+    section("suite", 2, "Across the folders", &s)
 }
 
 /// The table of contents, filled while the sections are built.
@@ -219,7 +270,7 @@ fn caveats(f: &Folder, a: &Analysis) -> Vec<String> {
 
 /// The summary section: both measures' tables, a sentence per instance, the caveats.
 fn summary_section(f: &Folder, a: &Analysis, id: &str) -> String {
-    let targets = Targets::new(&f.spec);
+    let targets = Targets::new(&f.spec, "");
     let several = f.spec.instances.len() > 1;
     let mut s = String::new();
     s.push_str(&summary::how_to_read_tables());
@@ -407,7 +458,7 @@ below cover those only (run the spec again to resume)."
     s.push_str(&how_to_read(f, id));
     let records = f.records();
     let report = &a.stats;
-    let targets = Targets::new(&f.spec);
+    let targets = Targets::new(&f.spec, "");
     for inst in &f.spec.instances {
         let iid = anchor(&[id, "instance", &inst.name]);
         toc.add(3, &iid, &format!("{prefix}Instance {}", inst.name));
@@ -489,7 +540,7 @@ fn experiment(f: &Folder, id: &str) -> String {
     section(&format!("{id}-experiment"), 3, "Experiment and plan", &s)
 }
 
-fn best_known_line(inst: &brdf_experiment::spec::InstanceSpec, targets: &Targets<'_>) -> String {
+fn best_known_line(inst: &brdf_experiment::spec::InstanceSpec, targets: &Targets) -> String {
     match &inst.best_known {
         Some(b) => para(
             "",

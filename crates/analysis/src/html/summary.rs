@@ -17,21 +17,41 @@ fn unit(m: Measure) -> &'static str {
 }
 
 /// Each instance's target texts (`0.1005 (+1%)`), by (instance, target).
-pub struct Targets<'s> {
-    spec: &'s Spec,
+pub struct Targets {
+    /// Per instance (as the summary names it): its digits and best-known RMSE.
+    instances: Vec<(String, usize, Option<f64>)>,
 }
 
-impl<'s> Targets<'s> {
-    /// The targets of `spec`'s instances.
-    pub fn new(spec: &'s Spec) -> Targets<'s> {
-        Targets { spec }
+impl Targets {
+    /// The targets of `spec`'s instances, each named `prefix` and its name.
+    pub fn new(spec: &Spec, prefix: &str) -> Targets {
+        let mut t = Targets::none();
+        t.add(spec, prefix);
+        t
+    }
+
+    /// No instance yet.
+    pub fn none() -> Targets {
+        Targets {
+            instances: Vec::new(),
+        }
+    }
+
+    /// Adds `spec`'s instances, each named `prefix` and its name.
+    pub fn add(&mut self, spec: &Spec, prefix: &str) {
+        self.instances.extend(spec.instances.iter().map(|i| {
+            (
+                format!("{prefix}{}", i.name),
+                target_digits(&i.targets),
+                i.best_known.as_ref().map(|b| b.rmse),
+            )
+        }));
     }
 
     /// `t` of `instance` for reading, never broken across lines.
     pub fn text(&self, instance: &str, t: f64) -> String {
-        let inst = self.spec.instances.iter().find(|i| i.name == instance);
-        let digits = inst.map_or(4, |i| target_digits(&i.targets));
-        let best = inst.and_then(|i| i.best_known.as_ref()).map(|b| b.rmse);
+        let inst = self.instances.iter().find(|i| i.0 == instance);
+        let (digits, best) = inst.map_or((4, None), |i| (i.1, i.2));
         format!("<span class=\"t\">{}</span>", target(t, best, digits))
     }
 }
@@ -110,7 +130,7 @@ fn caption(s: &Summary) -> String {
 
 /// The summary table of one measure: rows (instance, target), columns configurations, and
 /// per-configuration aggregates in the last rows when there are several rows.
-pub fn table(s: &Summary, targets: &Targets<'_>, several_instances: bool) -> String {
+pub fn table(s: &Summary, targets: &Targets, several_instances: bool) -> String {
     let mut head: Vec<String> = Vec::new();
     if several_instances {
         head.push("instance".into());
@@ -182,7 +202,7 @@ fn names(v: &[String]) -> String {
 
 /// One sentence on `instance`: which configuration is best at which targets, by how much the
 /// others trail (as ratios of ERT, smallest first) and where the difference is significant.
-pub fn sentence(s: &Summary, instance: &str, targets: &Targets<'_>) -> String {
+pub fn sentence(s: &Summary, instance: &str, targets: &Targets) -> String {
     let rows: Vec<&SummaryRow> = s.instance_rows(instance).collect();
     let n = rows.len();
     let reached: Vec<&SummaryRow> = rows.iter().copied().filter(|r| r.best.is_some()).collect();

@@ -24,7 +24,7 @@ pub fn ert_text(m: &MeasureSummary) -> String {
 
 /// Success, median and ERT (with bootstrap 10-90% intervals) per target and configuration,
 /// in CPU seconds and sample-evaluations.
-pub fn success_table(report: &StatsReport, instance: &str, targets: &Targets<'_>) -> String {
+pub fn success_table(report: &StatsReport, instance: &str, targets: &Targets) -> String {
     let mut last = None;
     let rows: Vec<Vec<String>> = report
         .configs
@@ -88,7 +88,7 @@ fn page_order() -> Vec<&'static Test> {
 
 /// The pairwise tests of one instance: each test's p-value with its Holm-adjusted value (over
 /// the pairs of each target and measure) and effect, and the direction-only tests' outcomes.
-pub fn tests_table(report: &StatsReport, instance: &str, targets: &Targets<'_>) -> String {
+pub fn tests_table(report: &StatsReport, instance: &str, targets: &Targets) -> String {
     let order = page_order();
     let rows: Vec<Vec<String>> = report
         .tests
