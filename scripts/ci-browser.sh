@@ -41,7 +41,8 @@ console_lines() {
 # colour per configuration, no number cell over 8 significant digits. $1 = the HTML file,
 # $2 = a short name for the outputs.
 layout_check() {
-    local page=$1 name=$2 size=$3 probe dom
+    local page name=$2 size=$3 probe dom
+    page=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
     probe="$(dirname "$page")/.$name-$size.checks.html"
     dom="$work/$name-$size.checks.dom.html"
     # The page carries no script: the checks run on a copy beside it (same relative links).
