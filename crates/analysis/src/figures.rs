@@ -92,7 +92,10 @@ pub fn rtd_chart(
     let trials = groups.iter().map(|g| g.records.len()).max().unwrap_or(0);
     let value = shown.split(" (").next().unwrap_or(shown);
     let mut chart = Chart::new(
-        format!("RTD - {instance}, target RMSE {shown} ({trials} trials per configuration)"),
+        format!(
+            "RTD in {} - {instance}, target RMSE {shown} ({trials} trials per configuration)",
+            measure.label()
+        ),
         format!("{} to reach RMSE <= {value} (log scale)", measure.label()),
         "fraction of trials solved",
     );

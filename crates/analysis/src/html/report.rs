@@ -333,13 +333,11 @@ fn cpu_note(
 }
 
 /// Ranking, significance matrix and (several instances) the runtime ECDFs over all pairs.
+/// (Two or more configurations: the caller checks.)
 fn across_section(a: &Analysis, id: &str, toc: &mut Toc) -> Result<String, PageError> {
     let Some(sm) = a.summaries.first() else {
         return Ok(String::new());
     };
-    if sm.configs.len() < 2 {
-        return Ok(String::new());
-    }
     let mut s = summary::ranking(sm);
     s.push_str(&summary::matrix(sm));
     for c in a.charts.iter().filter(|c| c.instance.is_none()) {
@@ -429,27 +427,20 @@ below cover those only (run the spec again to resume)."
     for n in f.notes.iter().filter(|n| !n.starts_with("partial results")) {
         s.push_str(&para("note", &format!("Note: {n}.")));
     }
+    let heading = format!("{} ({})", f.spec.name, f.dir.display());
     let prefix = if several {
+        toc.add(2, id, &heading);
         format!("{}: ", f.spec.name)
     } else {
         String::new()
     };
     toc.add(3, &format!("{id}-summary"), &format!("{prefix}Summary"));
     s.push_str(&summary_section(f, a, id));
-    let across_id = format!("{id}-across");
-    let at = toc.entries.len();
-    let across = across_section(a, id, toc)?;
-    if !across.is_empty() {
-        toc.entries.insert(
-            at,
-            (
-                3,
-                across_id,
-                format!("{prefix}Across instances and targets"),
-            ),
-        );
+    if a.summaries.first().is_some_and(|sm| sm.configs.len() > 1) {
+        let text = format!("{prefix}Across instances and targets");
+        toc.add(3, &format!("{id}-across"), &text);
+        s.push_str(&across_section(a, id, toc)?);
     }
-    s.push_str(&across);
     toc.add(
         3,
         &format!("{id}-howto"),
@@ -501,21 +492,17 @@ below cover those only (run the spec again to resume)."
         &format!("{id}-provenance"),
         &format!("{prefix}Provenance"),
     );
+    let about = "<p class=\"tcap\">Where these results come from, as the results file's header \
+                 and session lines record it: the program and its commit, kernels, machines, \
+                 dates, shard and the hashes of the instances' data; then one row per session \
+                 (each start of <code>run</code> on the folder).</p>\n";
     s.push_str(&section(
         &format!("{id}-provenance"),
         3,
         "Provenance",
-        &(provenance::summary(f) + &provenance::sessions(f)),
+        &(about.to_string() + &provenance::summary(f) + &provenance::sessions(f)),
     ));
     if several {
-        let heading = format!("{} ({})", f.spec.name, f.dir.display());
-        toc.entries.insert(
-            toc.entries
-                .iter()
-                .position(|e| e.1 == format!("{id}-summary"))
-                .unwrap_or(0),
-            (2, id.to_string(), heading.clone()),
-        );
         Ok(section(id, 2, &heading, &s))
     } else {
         Ok(format!("<div id=\"{}\">\n{s}</div>\n", escape(id)))
