@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::report::{StoredSpecError, plan_records, stored_spec};
+use crate::analysis::{Analysis, ChartSet, plan_records};
+use crate::report::{StoredSpecError, stored_spec};
 use brdf_experiment::spec::Spec;
 use brdf_experiment::store::{Contents, StoreError, TrialRecord, read_results, results_file};
 
@@ -124,6 +125,16 @@ impl Folder {
             .into_iter()
             .cloned()
             .collect()
+    }
+
+    /// The analysis of the folder's records with the charts its page shows.
+    pub fn analysis(&self) -> Analysis {
+        Analysis::new(&self.spec, &self.contents.records, ChartSet::Page)
+    }
+
+    /// The analysis of the folder's records without charts (statistics only).
+    pub fn statistics(&self) -> Analysis {
+        Analysis::new(&self.spec, &self.contents.records, ChartSet::None)
     }
 
     /// Trials present and planned.

@@ -2,6 +2,8 @@
 //! of results folders, before-and-after comparisons and exports. It reads what
 //! `brdf_experiment` writes and runs no trials.
 //!
+//! - [`analysis`]: one analysis of a run (statistics, tests, charts' data), computed once
+//!   and rendered by the files, the table, the page, `compare` and the Python package.
 //! - [`stats`]: run-time distributions (Kaplan-Meier), quantiles, ERT with bootstrap, pairwise
 //!   tests (Mann-Whitney, KS, log-rank) with Holm's correction, tables.
 //! - [`figures`]: RTD, sweep, trace, scatter, error-time and COCO-style ECDF charts built from
@@ -20,6 +22,7 @@
 //!   significantly different or not comparable (and why).
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod compare;
 pub mod export;
 pub mod figures;

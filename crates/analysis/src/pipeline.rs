@@ -30,7 +30,8 @@ use brdf_experiment::spec::Spec;
 use brdf_model::Kernel;
 
 use crate::folder::Folder;
-use crate::report::{Report, write_report};
+use crate::analysis::{Analysis, ChartSet};
+use crate::report::{Report, write_analysis};
 
 /// What to run, and how.
 #[derive(Clone, Debug)]
@@ -204,17 +205,19 @@ where
             String::new()
         }
     ));
-    let mut report = write_report(
-        spec,
-        &outcome.records,
-        &outcome.sessions,
-        &out,
-        request.plots,
-    )
-    .context("writing statistics and plots")?;
+    // One analysis for the files and the page: statistics and charts are computed once.
+    let charts = if request.plots {
+        ChartSet::Page
+    } else {
+        ChartSet::None
+    };
+    let analysis = Analysis::new(spec, &outcome.records, charts);
+    let mut report = write_analysis(spec, analysis, &outcome.sessions, &out, request.plots)
+        .context("writing statistics and plots")?;
     if request.plots {
         let folder = Folder::from_run(&out, spec.clone(), &outcome);
-        let page = crate::html::report_page(&[folder]).context("building the report page")?;
+        let page = crate::html::report_page_of(&[(&folder, &report.analysis)], &out)
+            .context("building the report page")?;
         let path = out.join("report.html");
         brdf_experiment::store::write_atomic(&path, page.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;

@@ -14,11 +14,12 @@
 use std::path::{Path, PathBuf};
 
 use brdf_graphics::PlotError;
-use brdf_graphics::chart::{self as plot, slug};
+use brdf_graphics::chart as plot;
 
-use crate::figures;
-use crate::stats::{self, Group, Measure, StatsReport};
-use brdf_experiment::spec::{PlotKind, Source, Spec};
+use crate::analysis::{Analysis, ChartSet};
+pub use crate::analysis::{NamedChart, charts, plan_records};
+use crate::stats::{self, StatsReport};
+use brdf_experiment::spec::{Source, Spec};
 use brdf_experiment::store::{Contents, Session, TrialRecord, write_atomic};
 
 /// Errors writing a report.
@@ -55,8 +56,8 @@ fn to_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<String, Report
 /// What [`write_report`] produced.
 #[derive(Clone, Debug)]
 pub struct Report {
-    /// The statistics.
-    pub stats: StatsReport,
+    /// The analysis the files render (the page renders it too).
+    pub analysis: Analysis,
     /// The printable table.
     pub table: String,
     /// Files written.
@@ -91,16 +92,6 @@ pub fn stored_spec(contents: &Contents, dir: &Path) -> Result<Spec, StoredSpecEr
     Ok(spec)
 }
 
-/// The records that belong to `spec`'s plan (its instances, configurations and trial count).
-pub fn plan_records<'a>(spec: &Spec, records: &'a [TrialRecord]) -> Vec<&'a TrialRecord> {
-    let inst = spec.instance_names();
-    let cfg = spec.config_labels();
-    records
-        .iter()
-        .filter(|r| r.trial < spec.trials && inst.contains(&r.instance) && cfg.contains(&r.config))
-        .collect()
-}
-
 fn write(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<(), ReportError> {
     write_atomic(path, bytes).map_err(|source| ReportError::Io {
         path: path.to_path_buf(),
@@ -110,11 +101,9 @@ fn write(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<(), Repo
     Ok(())
 }
 
-/// Computes statistics only (no files).
+/// Computes statistics only (no files, no charts).
 pub fn compute_stats(spec: &Spec, records: &[TrialRecord]) -> StatsReport {
-    let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
-    let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
-    stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed)
+    Analysis::new(spec, records, ChartSet::None).stats
 }
 
 /// Writes statistics (JSON, CSV, table) and, when `plots` is set, the spec's plots.
@@ -125,36 +114,55 @@ pub fn write_report(
     out: &Path,
     plots: bool,
 ) -> Result<Report, ReportError> {
-    let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
-    let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
-    let report = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
-    let table = with_python_note(spec, with_best_known(spec, &owned, stats::table(&report)));
+    let charts = if plots {
+        ChartSet::Files
+    } else {
+        ChartSet::None
+    };
+    write_analysis(
+        spec,
+        Analysis::new(spec, records, charts),
+        sessions,
+        out,
+        plots,
+    )
+}
+
+/// Writes the files of `analysis` (computed once, e.g. for the files and the page of a run):
+/// statistics (JSON, CSV, table) and, when `plots` is set, the spec's plots.
+pub fn write_analysis(
+    spec: &Spec,
+    analysis: Analysis,
+    sessions: &[Session],
+    out: &Path,
+    plots: bool,
+) -> Result<Report, ReportError> {
+    let report = &analysis.stats;
+    let table = table(spec, &analysis);
     let mut files = Vec::new();
     let stats_path = out.join("stats.json");
-    let json = to_json(&stats_path, &report)?;
+    let json = to_json(&stats_path, report)?;
     write(&stats_path, json.as_bytes(), &mut files)?;
     write(
         &out.join("stats.csv"),
-        stats::configs_csv(&report).as_bytes(),
+        stats::configs_csv(report).as_bytes(),
         &mut files,
     )?;
     write(
         &out.join("tests.csv"),
-        stats::tests_csv(&report).as_bytes(),
+        stats::tests_csv(report).as_bytes(),
         &mut files,
     )?;
     write(
         &out.join("finals.csv"),
-        stats::finals_csv(&report).as_bytes(),
+        stats::finals_csv(report).as_bytes(),
         &mut files,
     )?;
     write(&out.join("table.txt"), table.as_bytes(), &mut files)?;
     if plots {
-        files.extend(draw_plots(spec, &groups, &out.join("plots"))?);
+        files.extend(draw_plots(spec, &analysis, &out.join("plots"))?);
     }
     let planned = spec.trials_plan().len();
-    let mut warnings = brdf_experiment::best_known::warnings(spec);
-    warnings.extend(brdf_experiment::best_known::below_best_known(spec, &owned));
     // `stats` writes no plots: the summary still lists those an earlier run drew.
     let mut listed = files.clone();
     if !plots {
@@ -165,24 +173,33 @@ pub fn write_report(
         "description": spec.description,
         "fingerprint": spec.fingerprint(),
         "trials_planned": planned,
-        "trials_present": owned.len(),
-        "complete": owned.len() == planned,
+        "trials_present": analysis.present,
+        "complete": analysis.present == planned,
         "budget": spec.budget,
         "sessions": sessions,
         "configurations": spec.config_labels(),
         "instances": spec.instance_names(),
         "best_known": spec.best_known(),
-        "warnings": warnings,
+        "warnings": analysis.warnings,
         "files": listed.iter().map(|f| f.strip_prefix(out).unwrap_or(f).display().to_string()).collect::<Vec<_>>(),
     });
     let summary_path = out.join("summary.json");
     let summary = to_json(&summary_path, &summary)?;
     write(&summary_path, summary.as_bytes(), &mut files)?;
     Ok(Report {
-        stats: report,
+        analysis,
         table,
         files,
     })
+}
+
+/// The table `run` and `stats` print: the statistics, each instance's best-known RMSE with
+/// the warnings about targets close to it, and a note on configurations run in Python.
+pub fn table(spec: &Spec, analysis: &Analysis) -> String {
+    with_python_note(
+        spec,
+        with_best_known(spec, analysis, stats::table(&analysis.stats)),
+    )
 }
 
 /// The plot files the folder's summary.json lists that are still on disk (none when it is
@@ -206,7 +223,7 @@ fn plots_listed_before(out: &Path) -> Vec<PathBuf> {
 
 /// The statistics table followed by each instance's best-known RMSE (with every target
 /// relative to it) and the warnings about targets close to it, when they are known.
-fn with_best_known(spec: &Spec, records: &[TrialRecord], mut table: String) -> String {
+fn with_best_known(spec: &Spec, analysis: &Analysis, mut table: String) -> String {
     if spec.instances.iter().all(|i| i.best_known.is_none()) {
         return table;
     }
@@ -214,12 +231,8 @@ fn with_best_known(spec: &Spec, records: &[TrialRecord], mut table: String) -> S
         table.push('\n');
     }
     table.push_str(&brdf_experiment::best_known::summary(spec));
-    let below = brdf_experiment::best_known::below_best_known(spec, records);
-    for w in brdf_experiment::best_known::warnings(spec)
-        .into_iter()
-        .chain(below)
-    {
-        table.push_str(&w);
+    for w in &analysis.warnings {
+        table.push_str(w);
         table.push('\n');
     }
     table
@@ -248,32 +261,10 @@ fn with_python_note(spec: &Spec, mut table: String) -> String {
     table
 }
 
-/// Default target range of the error-time and ECDF plots: from the lowest target to the median
-/// first-trace RMSE, clamped to [1.2, 5] times the lowest target.
-fn error_range(spec: &Spec, groups: &[&Group<'_>], lo: f64) -> (f64, f64) {
-    if let Some([a, b]) = spec.plots.error_range {
-        return (a, b);
-    }
-    let mut first: Vec<f64> = groups
-        .iter()
-        .flat_map(|g| g.records.iter())
-        .filter_map(|r| r.result.trace.first().map(|p| p.rmse))
-        .filter(|x| x.is_finite())
-        .collect();
-    first.sort_by(f64::total_cmp);
-    let med = first.get(first.len() / 2).copied().unwrap_or(lo * 2.0);
-    let lo = lo.max(1e-12);
-    (lo, med.clamp(lo * 1.2, lo * 5.0))
-}
-
-/// Draws the plots the spec asks for; returns the files written.
-pub fn draw_plots(
-    spec: &Spec,
-    groups: &[Group<'_>],
-    dir: &Path,
-) -> Result<Vec<PathBuf>, PlotError> {
+/// Draws the charts of `analysis` that the spec asks for; returns the files written.
+pub fn draw_plots(spec: &Spec, analysis: &Analysis, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let mut files = Vec::new();
-    for c in charts(spec, groups, &spec.plots.draw) {
+    for c in analysis.file_charts(spec) {
         files.extend(plot::draw(
             &c.chart,
             &dir.join(&c.stem),
@@ -281,153 +272,6 @@ pub fn draw_plots(
         )?);
     }
     Ok(files)
-}
-
-/// One chart of an experiment and the file stem it is drawn to.
-#[derive(Clone, Debug)]
-pub struct NamedChart {
-    /// The instance it shows.
-    pub instance: String,
-    /// Its kind.
-    pub kind: PlotKind,
-    /// File name without extension: `<instance>-<kind>[-<measure>][-q<target>]`.
-    pub stem: String,
-    /// The chart.
-    pub chart: plot::Chart,
-}
-
-/// The charts of the given kinds for every instance with results, in the order of the plots
-/// directory's listing by instance: RTDs per target, sweeps, trace, scatter, error-time, ECDF.
-pub fn charts(spec: &Spec, groups: &[Group<'_>], kinds: &[PlotKind]) -> Vec<NamedChart> {
-    let mut out = Vec::new();
-    let wants = |k: PlotKind| kinds.contains(&k);
-    for inst in &spec.instances {
-        let gs: Vec<&Group> = groups.iter().filter(|g| g.instance == inst.name).collect();
-        if gs.is_empty() {
-            continue;
-        }
-        let mut push = |kind: PlotKind, name: String, chart: plot::Chart| {
-            out.push(NamedChart {
-                instance: inst.name.clone(),
-                kind,
-                stem: format!("{}-{name}", slug(&inst.name)),
-                chart,
-            });
-        };
-        for &t in &inst.targets {
-            if wants(PlotKind::Rtd) {
-                let c = figures::rtd_chart(
-                    &inst.name,
-                    &gs,
-                    t,
-                    Measure::CpuSeconds,
-                    spec.budget.cpu_seconds,
-                );
-                push(
-                    PlotKind::Rtd,
-                    format!("rtd-cpu-q{}", inst.target_label(t)),
-                    c,
-                );
-            }
-            if wants(PlotKind::RtdEvaluations) {
-                let c = figures::rtd_chart(
-                    &inst.name,
-                    &gs,
-                    t,
-                    Measure::Evaluations,
-                    spec.budget.sample_evaluations.map(|e| e as f64),
-                );
-                let name = format!("rtd-evals-q{}", inst.target_label(t));
-                push(PlotKind::RtdEvaluations, name, c);
-            }
-        }
-        let t0 = inst.run_target();
-        if wants(PlotKind::Sweep) {
-            for (name, c) in sweep_charts(spec, &inst.name, &gs, t0) {
-                push(PlotKind::Sweep, name, c);
-            }
-        }
-        if wants(PlotKind::Trace) {
-            let c = figures::trace_chart(&inst.name, &gs, spec.plots.trace_trials, &inst.targets);
-            push(PlotKind::Trace, "trace".into(), c);
-        }
-        if wants(PlotKind::Scatter) {
-            let c = figures::scatter_chart(&inst.name, &gs, t0);
-            push(PlotKind::Scatter, "scatter".into(), c);
-        }
-        if wants(PlotKind::ErrorTime) || wants(PlotKind::Ecdf) {
-            let (lo, hi) = error_range(spec, &gs, t0);
-            let grid = figures::target_grid(lo, hi, spec.plots.error_steps);
-            if wants(PlotKind::ErrorTime) {
-                let c = figures::error_time_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
-                push(PlotKind::ErrorTime, "error-time".into(), c);
-            }
-            if wants(PlotKind::Ecdf) {
-                let c = figures::ecdf_targets_chart(&inst.name, &gs, &grid, Measure::CpuSeconds);
-                push(PlotKind::Ecdf, "ecdf-targets".into(), c);
-            }
-        }
-    }
-    out
-}
-
-type SweepRow = (f64, Option<f64>, Option<f64>, Option<f64>, Option<f64>);
-
-/// The sweep charts of one instance as (name without the instance, chart).
-fn sweep_charts(
-    spec: &Spec,
-    instance: &str,
-    groups: &[&Group<'_>],
-    target: f64,
-) -> Vec<(String, plot::Chart)> {
-    let mut out = Vec::new();
-    let mut algos: Vec<&str> = Vec::new();
-    for c in &spec.configurations {
-        if !c.swept.is_empty() && !algos.contains(&c.algorithm_label.as_str()) {
-            algos.push(&c.algorithm_label);
-        }
-    }
-    for algo in algos {
-        let cfgs: Vec<_> = spec
-            .configurations
-            .iter()
-            .filter(|c| c.algorithm_label == algo && !c.swept.is_empty())
-            .collect();
-        let param = cfgs[0].swept[0].0.clone();
-        // One series per combination of the other swept values.
-        let mut rows: Vec<(String, Vec<SweepRow>)> = Vec::new();
-        for c in &cfgs {
-            let others: Vec<String> = c.swept[1..]
-                .iter()
-                .map(|(k, v)| format!("{k}={}", brdf_experiment::spec::format_value(*v)))
-                .collect();
-            let key = others.join(" ");
-            let Some(g) = groups.iter().find(|g| g.config == c.label) else {
-                continue;
-            };
-            let o = stats::group_outcomes(g, target, Measure::CpuSeconds);
-            let s = stats::summarise(&o, spec.stats.bootstrap, spec.seed);
-            let row = (c.swept[0].1, s.ert, s.ert_p10, s.ert_p90, s.quantiles[2]);
-            match rows.iter_mut().find(|r| r.0 == key) {
-                Some(r) => r.1.push(row),
-                None => rows.push((key, vec![row])),
-            }
-        }
-        for r in &mut rows {
-            r.1.sort_by(|a, b| a.0.total_cmp(&b.0));
-        }
-        let xs: Vec<f64> = rows.iter().flat_map(|r| r.1.iter().map(|p| p.0)).collect();
-        let (mn, mx) = xs
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-        let x_log = mn > 0.0 && mx / mn >= 10.0;
-        let title = format!("{algo}: ERT and median vs {param} - {instance}, target RMSE {target}");
-        let c = figures::sweep_chart(&title, &param, Measure::CpuSeconds, &rows, x_log);
-        out.push((format!("sweep-{}-{}", slug(algo), slug(&param)), c));
-    }
-    out
 }
 
 /// A short description of where an instance's data comes from (for messages).

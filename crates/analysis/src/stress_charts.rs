@@ -1,7 +1,7 @@
 //! The charts of a stress report (`brdf-sls stress`): drawn to `plots/` and inlined in
 //! `stress.html`, so both show the same figures.
 
-use brdf_graphics::chart::{self, Chart, LegendAt, Series, Style};
+use brdf_graphics::chart::{self, Chart, Series, Style};
 use brdf_stress::StressReport;
 
 /// Every chart of `report` with the file stem it is drawn under in `plots/`.
@@ -21,7 +21,6 @@ pub fn ulps_histogram(report: &StressReport) -> Chart {
     );
     c.x_log = true;
     c.y_log = true;
-    c.legend = LegendAt::UpperRight;
     for (i, k) in report.kernels.kernels.iter().enumerate() {
         let total: u64 = k.ulps_histogram.iter().map(|&(_, n)| n).sum();
         // Log axes: empty bins and the open last bin (an infinite edge) have no place.
@@ -38,6 +37,7 @@ pub fn ulps_histogram(report: &StressReport) -> Chart {
             style: chart::distinct_style(i),
             color: chart::color(i),
             band: Vec::new(),
+            key: None,
         });
     }
     c
@@ -52,7 +52,6 @@ pub fn suite_map(report: &StressReport) -> Chart {
         "case (in suite order within its group)",
         "group",
     );
-    c.legend = LegendAt::UpperRight;
     c.y_range = Some((0.5, 3.8));
     c.y_categories = vec!["NIST".into(), "MGH".into(), "BRDF hostile".into()];
     let kinds: [(&str, Style); 3] = [
@@ -81,6 +80,7 @@ pub fn suite_map(report: &StressReport) -> Chart {
             style,
             color,
             band: Vec::new(),
+            key: None,
         });
     }
     c

@@ -29,7 +29,7 @@ fn report_writes_statistics_and_plots() {
     let report =
         brdf_analysis::report::write_report(&s, &run.records, &c.sessions, &out, true).unwrap();
     // 3 configurations x 2 targets.
-    assert_eq!(report.stats.configs.len(), 6);
+    assert_eq!(report.analysis.stats.configs.len(), 6);
     assert!(report.table.contains("AED phi=1.2"), "{}", report.table);
     for name in [
         "stats.json",

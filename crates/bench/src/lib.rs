@@ -14,7 +14,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use brdf_model::{Evaluator, ExponentCoord, Kernel, Layout, LobeKind, named_params, synthetic};
 use cpu_time::ThreadTime;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use brdf_experiment::progress::{Progress, ProgressMode};
 
@@ -25,7 +25,7 @@ use brdf_experiment::progress::{Progress, ProgressMode};
 const FLOPS_PER_VALUE: f64 = 42.0;
 
 /// Kernel cost of one kernel.
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 struct KernelRow {
     kernel: String,
     values_ns: f64,
@@ -39,7 +39,7 @@ struct KernelRow {
 }
 
 /// Search results on one instance.
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 struct SearchRow {
     instance: String,
     /// The descent's exponent coordinate, `log1p` or `raw n` (starts uniform in it).
@@ -56,7 +56,7 @@ struct SearchRow {
 }
 
 /// One of the speed goals of issue 38, with its measured value.
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 struct Goal {
     goal: String,
     /// The measured value (`None`: the row it needs has no median).
@@ -67,7 +67,7 @@ struct Goal {
 }
 
 /// Everything one bench run measured (written as bench.json).
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 pub struct BenchReport {
     program_version: String,
     cpu: String,
@@ -180,10 +180,27 @@ pub fn write_files(report: &BenchReport, out: &Path) -> Result<String> {
     brdf_experiment::store::write_atomic(&out.join("bench.json"), json.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.json").display()))?;
     let machine = brdf_experiment::machine::MachineInfo::current(1);
-    let html = page(report, &machine, brdf_experiment::machine::unix_now());
+    let html = page(report, Some(&machine), brdf_experiment::machine::unix_now());
     brdf_experiment::store::write_atomic(&out.join("bench.html"), html.as_bytes())
         .with_context(|| format!("writing {}", out.join("bench.html").display()))?;
     Ok(md)
+}
+
+/// Rewrites `out`/bench.html from `out`/bench.json without measuring (after a change of the
+/// page's layout); bench.json does not record the machine beyond its CPU and cores, so the
+/// page says so.
+pub fn rewrite_page(out: &Path) -> Result<()> {
+    let json = out.join("bench.json");
+    let text = std::fs::read_to_string(&json).with_context(|| {
+        format!(
+            "reading {} (--rewrite-page reads a bench run's bench.json)",
+            json.display()
+        )
+    })?;
+    let report = read_json(&text).with_context(|| format!("reading {}", json.display()))?;
+    let html = page(&report, None, brdf_experiment::machine::unix_now());
+    brdf_experiment::store::write_atomic(&out.join("bench.html"), html.as_bytes())
+        .with_context(|| format!("writing {}", out.join("bench.html").display()))
 }
 
 /// Median of `reps` timings of `f` in thread CPU nanoseconds per `units`.
@@ -526,17 +543,11 @@ fn markdown(r: &BenchReport) -> String {
             if g.met { "yes" } else { "**no**" }
         ));
     }
-    let load = |l: Option<[f64; 3]>| {
-        l.map_or_else(
-            || "unknown".to_string(),
-            |l| format!("{:.2} {:.2} {:.2}", l[0], l[1], l[2]),
-        )
-    };
     s.push_str(&format!(
         "\nLoad average (1, 5, 15 minutes) on {} core(s): {} before, {} after.\n",
         r.cores,
-        load(r.load_before),
-        load(r.load_after)
+        load_text(r.load_before),
+        load_text(r.load_after)
     ));
     for w in &r.load_warnings {
         s.push_str(&format!("\n**{w}**\n"));
@@ -544,10 +555,26 @@ fn markdown(r: &BenchReport) -> String {
     s
 }
 
-/// The page of `r` (`bench.html`): what `markdown` shows, with the machine and the date.
+/// A report from bench.json's text (a goal's limit that was NaN is written as `null`: read
+/// back as NaN).
+fn read_json(text: &str) -> serde_json::Result<BenchReport> {
+    let value: serde_json::Value = serde_json::from_str(text)?;
+    serde::Deserialize::deserialize(brdf_stress::json::NullAsNan(value))
+}
+
+/// Load averages as text (`unknown` where they could not be read).
+fn load_text(l: Option<[f64; 3]>) -> String {
+    l.map_or_else(
+        || "unknown".to_string(),
+        |l| format!("{:.2} {:.2} {:.2}", l[0], l[1], l[2]),
+    )
+}
+
+/// The page of `r` (`bench.html`): what `markdown` shows, with the machine, the load and the
+/// date.
 fn page(
     r: &BenchReport,
-    machine: &brdf_experiment::machine::MachineInfo,
+    machine: Option<&brdf_experiment::machine::MachineInfo>,
     written_unix: u64,
 ) -> String {
     use brdf_analysis::html::{date, document, escape, key_values, para, section, table};
@@ -558,14 +585,35 @@ fn page(
         ("CPU", escape(&r.cpu)),
         (
             "machine",
-            escape(&brdf_analysis::html::machine_text(machine)),
+            machine.map_or_else(
+                || {
+                    format!(
+                        "{} core(s); not recorded further in bench.json (this page was \
+                         rewritten from it)",
+                        r.cores
+                    )
+                },
+                |m| escape(&brdf_analysis::html::machine_text(m)),
+            ),
         ),
         ("written", date(written_unix)),
         (
             "peak of one core",
             format!("{:.2} GFLOP/s", r.peak_gflops_per_core),
         ),
+        (
+            "load average (1, 5, 15 min)",
+            format!(
+                "{} before, {} after, on {} core(s)",
+                load_text(r.load_before),
+                load_text(r.load_after),
+                r.cores
+            ),
+        ),
     ]));
+    for w in &r.load_warnings {
+        body.push_str(&para("partial", w));
+    }
     let mut k = para(
         "",
         &format!(
@@ -719,9 +767,16 @@ mod tests {
         let met: Vec<bool> = r.goals.iter().map(|g| g.met).collect();
         assert_eq!(met, [false, false, false, true, false, false]);
         let machine = brdf_experiment::machine::MachineInfo::current(1);
-        let html = page(&r, &machine, 0);
+        let html = page(&r, Some(&machine), 0);
         brdf_analysis::html::wellformed::check(&html).unwrap();
         assert!(html.contains("Test &lt;CPU&gt; &amp; co"));
+        assert!(html.contains("0.50 0.40 0.30 before, 3.00 1.00 0.50 after, on 2 core(s)"));
+        assert!(html.contains("load &lt;high&gt;"));
+        // Rewritten from bench.json: the same rows, the machine said to be unrecorded.
+        let back = read_json(&serde_json::to_string(&r).unwrap()).unwrap();
+        let again = page(&back, None, 0);
+        brdf_analysis::html::wellformed::check(&again).unwrap();
+        assert!(again.contains("not recorded further in bench.json"));
         assert!(html.contains("1970-01-01T00:00:00Z"));
         for k in &r.kernels {
             let row = format!("<tr><td>{}</td><td>3.25</td><td>9.50</td>", k.kernel);

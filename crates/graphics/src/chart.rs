@@ -12,6 +12,8 @@ use plotters::prelude::*;
 
 use crate::ImageFormat as PlotFormat;
 use crate::files::{Figure, PlotError, write_png, write_svg};
+pub use crate::legend::LegendEntry;
+pub use crate::style::Style;
 
 /// The tab10 palette (distinguishable, colour-blind friendlier than pure RGB).
 pub const PALETTE: [RGBColor; 10] = [
@@ -32,6 +34,31 @@ pub fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// The palette of series that stand for configurations: Okabe and Ito's colour-blind-safe
+/// colours (blue, vermillion, bluish green, reddish purple, orange, sky blue, black; their
+/// yellow is too light on white).
+pub const SERIES_PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+/// The colour of series `i` (a configuration's index): [`SERIES_PALETTE`], cycling.
+pub fn series_color(i: usize) -> RGBColor {
+    SERIES_PALETTE[i % SERIES_PALETTE.len()]
+}
+
+/// The line style of series `i`: solid, dashed, dotted, long-dashed, cycling. Four styles and
+/// seven colours: series 0 to 27 differ in their pair, so two never look alike, and a reader
+/// who cannot tell two colours apart still tells their lines apart.
+pub fn series_style(i: usize) -> Style {
+    [Style::Line, Style::Dashed, Style::Dotted, Style::LongDashed][i % 4]
+}
+
 /// Solid for the first palette round, dashed after it, so curves stay distinguishable.
 pub fn line_style(i: usize) -> Style {
     if i < PALETTE.len() {
@@ -48,23 +75,6 @@ pub fn distinct_style(i: usize) -> Style {
     [Style::Line, Style::Dashed, Style::Dotted, Style::Marked][i % 4]
 }
 
-/// How a series is drawn.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Style {
-    /// A solid polyline.
-    Line,
-    /// A dashed polyline.
-    Dashed,
-    /// A dotted polyline (drawn thinner, so a coinciding curve shows through).
-    Dotted,
-    /// A thin solid polyline with hollow square markers at the points.
-    Marked,
-    /// Markers only (filled circles).
-    Points,
-    /// Markers only (hollow circles).
-    HollowPoints,
-}
-
 /// One series of a chart.
 #[derive(Clone, Debug)]
 pub struct Series {
@@ -78,19 +88,18 @@ pub struct Series {
     pub color: RGBColor,
     /// Optional band `(x, lo, hi)` drawn shaded behind the series.
     pub band: Vec<(f64, f64, f64)>,
+    /// What the series stands for (a configuration's label): series with one key share a
+    /// colour in every figure of a page, and a page's legend names the key.
+    pub key: Option<String>,
 }
 
-/// Where the legend goes.
+/// Where the legend goes: never inside the plotting area, where it would hide curves.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LegendAt {
-    /// Upper left.
-    UpperLeft,
-    /// Upper right.
-    UpperRight,
-    /// Lower right.
-    LowerRight,
-    /// Lower left.
-    LowerLeft,
+    /// In rows under the plot (the image grows by the legend's height).
+    Below,
+    /// Not drawn: a page shows [`Chart::legend_entries`] beside the image itself.
+    Hidden,
 }
 
 /// A chart ready to draw.
@@ -124,6 +133,8 @@ pub struct Chart {
     pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: LegendAt,
+    /// Opacity of the bands (lighter when many overlap).
+    pub band_opacity: f64,
 }
 
 impl Chart {
@@ -146,7 +157,8 @@ impl Chart {
             y_categories: Vec::new(),
             x_range: None,
             y_range: None,
-            legend: LegendAt::UpperLeft,
+            legend: LegendAt::Below,
+            band_opacity: 0.18,
         }
     }
 
@@ -284,8 +296,8 @@ pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<Pa
             PlotFormat::Svg => with_ext(base, "svg"),
         };
         match f {
-            PlotFormat::Png => write_png(chart, SIZE, &path)?,
-            PlotFormat::Svg => write_svg(chart, SIZE, &path)?,
+            PlotFormat::Png => write_png(chart, chart.size(), &path)?,
+            PlotFormat::Svg => write_svg(chart, chart.size(), &path)?,
         }
         written.push(path);
     }
@@ -294,31 +306,195 @@ pub fn draw(chart: &Chart, base: &Path, formats: &[PlotFormat]) -> Result<Vec<Pa
 
 impl Figure for Chart {
     fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        render_any(root, self)
+        render_any(root, self).map(|_| ())
     }
 }
 
-fn render_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
-    let (x0, x1) = c.x_range.unwrap_or_else(|| c.data_range(0, c.x_log));
-    let (y0, y1) = c.y_range.unwrap_or_else(|| c.data_range(1, c.y_log));
-    // plotters' log axis only labels powers of ten: below one decade it would show no tick
-    // labels at all, so such axes are drawn linear instead.
-    let x_log = c.x_log && x0 > 0.0 && x1 / x0 >= 10.0;
-    let y_log = c.y_log && y0 > 0.0 && y1 / y0 >= 10.0;
-    if x_log != c.x_log || y_log != c.y_log {
-        let mut lin = c.clone();
-        lin.x_log = x_log;
-        lin.y_log = y_log;
-        lin.x_range = Some((x0, x1));
-        lin.y_range = Some((y0, y1));
-        if !x_log {
-            lin.x_label = lin.x_label.replace(" (log scale)", "");
+/// The colour of reference lines.
+const GREY: RGBColor = RGBColor(110, 110, 110);
+
+/// (dash, gap) per reference line, so two lines of one chart differ in the legend too.
+const DASHES: [(u32, u32); 3] = [(6, 4), (2, 3), (12, 4)];
+
+/// A reference line as drawn: its two ends, its label and its dash pattern (dash, gap).
+type Reference<'a> = ([(f64, f64); 2], &'a str, (u32, u32));
+
+/// The largest magnitude an axis reaches, and the widest ratio of a log axis: plotters'
+/// tick loops never end over an infinite or subnormal range and take a huge time near f64's
+/// limits, so ranges are brought inside these bounds (a point beyond is drawn at the edge).
+const AXIS_LIMIT: f64 = 1e300;
+
+/// `(lo, hi)` as a range plotters can draw: finite, increasing, within [`AXIS_LIMIT`] and, on a
+/// log axis, positive and at most 300 decades wide.
+fn drawable((lo, hi): (f64, f64), log: bool) -> (f64, f64) {
+    if log {
+        let hi = if hi.is_finite() && hi > 0.0 {
+            hi.clamp(1.0 / AXIS_LIMIT, AXIS_LIMIT)
+        } else {
+            AXIS_LIMIT
+        };
+        // A padded range may reach 0 below the smallest value: the widest range then.
+        let lo = if lo.is_finite() && lo > 0.0 { lo } else { 0.0 };
+        let lo = lo.max(hi / AXIS_LIMIT).max(1.0 / AXIS_LIMIT);
+        if lo < hi { (lo, hi) } else { (hi / 10.0, hi) }
+    } else {
+        let bound = |v: f64, or: f64| {
+            if v.is_nan() {
+                or
+            } else {
+                v.clamp(-AXIS_LIMIT, AXIS_LIMIT)
+            }
+        };
+        let (lo, hi) = (bound(lo, 0.0), bound(hi, 1.0));
+        if lo < hi {
+            (lo, hi)
+        } else {
+            (lo - 0.5 - lo.abs() * 0.1, hi + 0.5 + hi.abs() * 0.1)
         }
-        if !y_log {
-            lin.y_label = lin.y_label.replace(" (log scale)", "");
-        }
-        return render_any(root, &lin);
     }
+}
+
+impl Chart {
+    /// The chart as it is drawn: both ranges fixed (from the data unless set) and drawable,
+    /// and a log axis spanning less than a decade drawn linear (plotters' log axis labels only
+    /// powers of ten, so it would show no tick label), its " (log scale)" dropped from the
+    /// label. Captions should describe this chart, not the one asked for.
+    pub fn resolved(&self) -> Chart {
+        let mut c = self.clone();
+        let (x0, x1) = drawable(
+            self.x_range
+                .unwrap_or_else(|| self.data_range(0, self.x_log)),
+            self.x_log,
+        );
+        let (y0, y1) = drawable(
+            self.y_range
+                .unwrap_or_else(|| self.data_range(1, self.y_log)),
+            self.y_log,
+        );
+        c.x_log = self.x_log && x1 / x0 >= 10.0;
+        c.y_log = self.y_log && y1 / y0 >= 10.0;
+        if !c.x_log {
+            c.x_label = c.x_label.replace(" (log scale)", "");
+        }
+        if !c.y_log {
+            c.y_label = c.y_label.replace(" (log scale)", "");
+        }
+        c.x_range = Some((x0, x1));
+        c.y_range = Some((y0, y1));
+        c
+    }
+
+    /// The reference lines drawn (inside the resolved ranges).
+    fn references(&self) -> Vec<Reference<'_>> {
+        let (xs, ys) = (
+            self.x_range.unwrap_or((0.0, 1.0)),
+            self.y_range.unwrap_or((0.0, 1.0)),
+        );
+        let v = self
+            .vlines
+            .iter()
+            .filter(|(x, _)| *x >= xs.0 && *x <= xs.1)
+            .map(|(x, l)| ([(*x, ys.0), (*x, ys.1)], l.as_str()));
+        let h = self
+            .hlines
+            .iter()
+            .filter(|(y, _)| *y >= ys.0 && *y <= ys.1)
+            .map(|(y, l)| ([(xs.0, *y), (xs.1, *y)], l.as_str()));
+        v.chain(h)
+            .enumerate()
+            .map(|(k, (ends, l))| (ends, l, DASHES[k % DASHES.len()]))
+            .collect()
+    }
+
+    /// The legend's entries: the labelled reference lines drawn, then the labelled series.
+    pub fn legend_entries(&self) -> Vec<LegendEntry> {
+        let r = self.resolved();
+        let mut out = Vec::new();
+        if r.legend_lines {
+            for (_, label, dash) in r.references() {
+                if !label.is_empty() {
+                    out.push(LegendEntry {
+                        label: label.to_string(),
+                        key: None,
+                        color: GREY,
+                        style: Style::Line,
+                        reference_dash: Some(dash),
+                    });
+                }
+            }
+        }
+        for s in &r.series {
+            if let Some(label) = &s.label {
+                out.push(LegendEntry {
+                    label: label.clone(),
+                    key: s.key.clone(),
+                    color: s.color,
+                    style: s.style,
+                    reference_dash: None,
+                });
+            }
+        }
+        out
+    }
+
+    /// The image's size in pixels: [`SIZE`], taller by the legend under it.
+    pub fn size(&self) -> (u32, u32) {
+        let legend = match self.legend {
+            LegendAt::Below => crate::legend::height(&self.legend_entries(), SIZE.0),
+            LegendAt::Hidden => 0,
+        };
+        (SIZE.0, SIZE.1 + legend)
+    }
+}
+
+/// A chart as SVG text, with where its plotting area lies.
+#[derive(Clone, Debug)]
+pub struct ChartSvg {
+    /// The SVG document.
+    pub text: String,
+    /// Its size in pixels.
+    pub size: (u32, u32),
+    /// The plotting area in pixels: left, top, right, bottom.
+    pub plot_area: [i32; 4],
+}
+
+/// `chart` as SVG (at [`Chart::size`]) with its plotting area, for pages.
+pub fn chart_svg(chart: &Chart) -> Result<ChartSvg, String> {
+    crate::files::register_fonts();
+    let size = chart.size();
+    let mut text = String::new();
+    let plot_area = {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        let area = render_any(&root, chart)?;
+        root.present().map_err(|e| e.to_string())?;
+        area
+    };
+    Ok(ChartSvg {
+        text: crate::files::with_font_family(text),
+        size,
+        plot_area,
+    })
+}
+
+/// Draws `c` on `root` (of [`Chart::size`]): the plot, and the legend under it; returns the
+/// plotting area in pixels.
+fn render_any<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    c: &Chart,
+) -> Result<[i32; 4], String> {
+    let c = &c.resolved();
+    let height = root.dim_in_pixel().1;
+    let plot_height = height.min(SIZE.1);
+    let (root, legend_area) = root.split_vertically(plot_height);
+    if c.legend == LegendAt::Below && height > plot_height {
+        legend_area.fill(&WHITE).map_err(|e| e.to_string())?;
+        crate::legend::draw(&legend_area, &c.legend_entries())?;
+    }
+    let root = &root;
+    let ((x0, x1), (y0, y1)) = (
+        c.x_range.unwrap_or((0.0, 1.0)),
+        c.y_range.unwrap_or((0.0, 1.0)),
+    );
     match (c.x_log, c.y_log) {
         (false, false) => render(root, c, x0..x1, y0..y1),
         (true, false) => render(root, c, (x0..x1).log_scale(), y0..y1),
@@ -332,7 +508,7 @@ fn render<DB, XR, YR>(
     c: &Chart,
     xr: XR,
     yr: YR,
-) -> Result<(), String>
+) -> Result<[i32; 4], String>
 where
     DB: DrawingBackend,
     XR: AsRangedCoord<Value = f64>,
@@ -375,38 +551,10 @@ where
         .map_err(e)?;
     let (xs, ys) = (chart.x_range(), chart.y_range());
     let clamp = |p: (f64, f64)| (p.0.clamp(xs.start, xs.end), p.1.clamp(ys.start, ys.end));
-    let grey = RGBColor(110, 110, 110);
-    // (dash, gap) per reference line, so two lines of one chart differ in the legend too.
-    const DASHES: [(u32, u32); 3] = [(6, 4), (2, 3), (12, 4)];
-    let lines = c
-        .vlines
-        .iter()
-        .filter(|(x, _)| *x >= xs.start && *x <= xs.end)
-        .map(|(x, l)| (vec![(*x, ys.start), (*x, ys.end)], l))
-        .chain(
-            c.hlines
-                .iter()
-                .filter(|(y, _)| *y >= ys.start && *y <= ys.end)
-                .map(|(y, l)| (vec![(xs.start, *y), (xs.end, *y)], l)),
-        );
-    let mut legend_entries = 0;
-    for (k, (ends, label)) in lines.enumerate() {
-        let (dash, gap) = DASHES[k % DASHES.len()];
-        let anno = chart
-            .draw_series(DashedLineSeries::new(ends, dash, gap, grey.stroke_width(1)))
+    for (ends, _, (dash, gap)) in c.references() {
+        chart
+            .draw_series(DashedLineSeries::new(ends, dash, gap, GREY.stroke_width(1)))
             .map_err(e)?;
-        if c.legend_lines && !label.is_empty() {
-            legend_entries += 1;
-            anno.label(label.as_str()).legend(move |(x, y)| {
-                // The first four dashes of the pattern over the 20-pixel legend swatch.
-                let seg = |i: i32| {
-                    let from = (i * (dash + gap) as i32).min(20);
-                    let to = (from + dash as i32).min(20);
-                    PathElement::new(vec![(from, 0), (to, 0)], grey.stroke_width(1))
-                };
-                EmptyElement::at((x, y)) + seg(0) + seg(1) + seg(2) + seg(3)
-            });
-        }
     }
     for s in &c.series {
         if s.band.len() >= 2 {
@@ -415,7 +563,7 @@ where
             chart
                 .draw_series(std::iter::once(Polygon::new(
                     poly,
-                    s.color.mix(0.18).filled(),
+                    s.color.mix(c.band_opacity).filled(),
                 )))
                 .map_err(e)?;
         }
@@ -429,16 +577,18 @@ where
             .map(clamp)
             .collect();
         let col = s.color;
-        let anno = match s.style {
-            Style::Line => chart
-                .draw_series(LineSeries::new(pts, col.stroke_width(2)))
-                .map_err(e)?,
-            Style::Dashed => chart
-                .draw_series(DashedLineSeries::new(pts, 8, 5, col.stroke_width(2)))
-                .map_err(e)?,
-            Style::Dotted => chart
-                .draw_series(DashedLineSeries::new(pts, 2, 4, col.stroke_width(2)))
-                .map_err(e)?,
+        match s.style {
+            Style::Line => {
+                chart
+                    .draw_series(LineSeries::new(pts, col.stroke_width(2)))
+                    .map_err(e)?;
+            }
+            Style::Dashed | Style::Dotted | Style::LongDashed => {
+                let (dash, gap) = s.style.dash().unwrap_or((8, 5));
+                chart
+                    .draw_series(DashedLineSeries::new(pts, dash, gap, col.stroke_width(2)))
+                    .map_err(e)?;
+            }
             Style::Marked => {
                 chart
                     .draw_series(LineSeries::new(pts.clone(), col.stroke_width(1)))
@@ -448,65 +598,25 @@ where
                         EmptyElement::at(p)
                             + Rectangle::new([(-4, -4), (4, 4)], col.stroke_width(1))
                     }))
-                    .map_err(e)?
+                    .map_err(e)?;
             }
-            Style::Points => chart
-                .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, col.filled())))
-                .map_err(e)?,
-            Style::HollowPoints => chart
-                .draw_series(
-                    pts.into_iter()
-                        .map(|p| Circle::new(p, 4, col.stroke_width(1))),
-                )
-                .map_err(e)?,
-        };
-        if let Some(label) = &s.label {
-            let anno = anno.label(label.as_str());
-            match s.style {
-                Style::Points => {
-                    anno.legend(move |(x, y)| Circle::new((x + 10, y), 4, col.filled()))
-                }
-                Style::HollowPoints => {
-                    anno.legend(move |(x, y)| Circle::new((x + 10, y), 4, col.stroke_width(1)))
-                }
-                Style::Dashed => anno.legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 8, y)], col.stroke_width(2))
-                }),
-                Style::Dotted => anno.legend(move |(x, y)| {
-                    let dot = |i: i32| {
-                        PathElement::new(vec![(6 * i, 0), (6 * i + 2, 0)], col.stroke_width(2))
-                    };
-                    EmptyElement::at((x, y)) + dot(0) + dot(1) + dot(2) + dot(3)
-                }),
-                Style::Marked => anno.legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new(vec![(0, 0), (20, 0)], col.stroke_width(1))
-                        + Rectangle::new([(6, -4), (14, 4)], col.stroke_width(1))
-                }),
-                Style::Line => anno.legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2))
-                }),
-            };
+            Style::Points => {
+                chart
+                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, col.filled())))
+                    .map_err(e)?;
+            }
+            Style::HollowPoints => {
+                chart
+                    .draw_series(
+                        pts.into_iter()
+                            .map(|p| Circle::new(p, 4, col.stroke_width(1))),
+                    )
+                    .map_err(e)?;
+            }
         }
     }
-    if legend_entries > 0 || c.series.iter().any(|s| s.label.is_some()) {
-        let pos = match c.legend {
-            LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
-            LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
-            LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
-            LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
-        };
-        chart
-            .configure_series_labels()
-            .position(pos)
-            .margin(12)
-            .label_font(("sans-serif", 15))
-            .background_style(WHITE.mix(0.88))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(e)?;
-    }
-    Ok(())
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    Ok([px.start, py.start, px.end, py.end])
 }
 
 /// Step-function points of a CDF from `x_start` to `x_end` (left-continuous drawing).
@@ -571,6 +681,46 @@ mod tests {
         );
     }
 
+    /// plotters' tick loops hang over an infinite or subnormal range: times of 1e300 and more
+    /// (the range is padded past f64's limit) or subnormal ones must still draw, at once.
+    #[test]
+    fn extreme_values_draw_within_bounds() {
+        for (x_log, y_log) in [(true, true), (false, false), (true, false)] {
+            for pts in [
+                vec![(1e-3, 0.5), (1e300, 1.0)],
+                vec![(1e-3, 0.5), (1e306, 1e306)],
+                vec![(5e-324, 1e-310), (1.0, 1.0)],
+                vec![(f64::MAX, 0.5), (f64::MIN_POSITIVE, 2.0)],
+            ] {
+                let mut c = Chart::new("extreme", "x (log scale)", "y");
+                c.x_log = x_log;
+                c.y_log = y_log;
+                c.series.push(Series {
+                    label: Some("a".into()),
+                    points: pts.clone(),
+                    style: Style::Line,
+                    color: color(0),
+                    band: Vec::new(),
+                    key: None,
+                });
+                let start = std::time::Instant::now();
+                let svg = crate::files::svg_text(&c, SIZE).unwrap();
+                assert!(svg.contains("extreme"));
+                assert!(start.elapsed().as_secs() < 10, "{pts:?}");
+                let r = c.resolved();
+                let ((x0, x1), (y0, y1)) = (r.x_range.unwrap(), r.y_range.unwrap());
+                assert!(x0.is_finite() && x1.is_finite() && x0 < x1, "{pts:?}");
+                assert!(y0.is_finite() && y1.is_finite() && y0 < y1, "{pts:?}");
+            }
+        }
+        // A log axis within one decade is drawn linear, and its label says so.
+        let mut c = Chart::new("narrow", "x (log scale)", "y");
+        c.x_log = true;
+        c.x_range = Some((2.0, 5.0));
+        let r = c.resolved();
+        assert!(!r.x_log && r.x_label == "x", "{}", r.x_label);
+    }
+
     #[test]
     fn draws_png_and_svg() {
         let dir = tempfile::tempdir().unwrap();
@@ -582,6 +732,7 @@ mod tests {
             style: Style::Line,
             color: color(0),
             band: vec![(0.1, -0.1, 0.1), (10.0, 0.9, 1.1)],
+            key: None,
         });
         c.vlines.push((5.0, "cutoff".into()));
         let files = draw(

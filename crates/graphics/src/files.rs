@@ -109,12 +109,70 @@ pub fn svg_text(figure: &impl Figure, size: (u32, u32)) -> Result<String, String
         figure.draw_on(&root)?;
         root.present().map_err(|e| e.to_string())?;
     }
-    // Text was laid out with DejaVu Sans metrics: ask SVG viewers for that face first (most
-    // systems have it), any sans-serif otherwise.
-    Ok(text.replace(
+    Ok(with_font_family(text))
+}
+
+/// SVG text drawn with DejaVu Sans metrics, asking SVG viewers for that face first (most
+/// systems have it), any sans-serif otherwise; runs of polylines drawn alike merged into one
+/// path ([`merge_polylines`]).
+pub fn with_font_family(text: String) -> String {
+    merge_polylines(&text).replace(
         "font-family=\"sans-serif\"",
         "font-family=\"DejaVu Sans, sans-serif\"",
-    ))
+    )
+}
+
+/// plotters draws a dashed line as one `<polyline>` per dash and a grid as one `<line>` per
+/// grid line: consecutive such elements with the same attributes (one per line of the text, as
+/// plotters writes them) become one `<path>` with a subpath each. The picture is the same; the
+/// file is several times smaller.
+pub fn merge_polylines(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    // The attributes of the run being merged and its path data.
+    let mut run: Option<(&str, String)> = None;
+    let flush = |out: &mut String, run: &mut Option<(&str, String)>| {
+        if let Some((attrs, d)) = run.take() {
+            let fill = if attrs.contains("fill=") {
+                ""
+            } else {
+                "fill=\"none\" "
+            };
+            out.push_str(&format!("<path {fill}{attrs} d=\"{}\"/>\n", d.trim_end()));
+        }
+    };
+    for line in text.split_inclusive('\n') {
+        let Some((attrs, points)) = segment(line.trim_end()) else {
+            flush(&mut out, &mut run);
+            out.push_str(line);
+            continue;
+        };
+        if run.as_ref().is_some_and(|(a, _)| *a != attrs) {
+            flush(&mut out, &mut run);
+        }
+        let d = &mut run.get_or_insert_with(|| (attrs, String::new())).1;
+        for (k, p) in points.iter().enumerate() {
+            d.push(if k == 0 { 'M' } else { 'L' });
+            d.push_str(p);
+            d.push(' ');
+        }
+    }
+    flush(&mut out, &mut run);
+    out
+}
+
+/// A `<polyline ... points="x,y x,y"/>` or `<line ... x1=".." y1=".." x2=".." y2=".."/>` as
+/// (its other attributes, its points as `x,y`).
+fn segment(line: &str) -> Option<(&str, Vec<String>)> {
+    if let Some(rest) = line.strip_prefix("<polyline ") {
+        let (attrs, points) = rest.strip_suffix("\"/>")?.split_once(" points=\"")?;
+        return Some((attrs, points.split_whitespace().map(String::from).collect()));
+    }
+    let rest = line.strip_prefix("<line ")?.strip_suffix("\"/>")?;
+    let (attrs, coords) = rest.split_once(" x1=\"")?;
+    let (x1, rest) = coords.split_once("\" y1=\"")?;
+    let (y1, rest) = rest.split_once("\" x2=\"")?;
+    let (x2, y2) = rest.split_once("\" y2=\"")?;
+    Some((attrs, vec![format!("{x1},{y1}"), format!("{x2},{y2}")]))
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then
@@ -231,5 +289,23 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(left.len(), 2, "{left:?}");
+    }
+}
+
+#[cfg(test)]
+mod merge_tests {
+    #[test]
+    fn runs_of_alike_polylines_become_one_path() {
+        let svg = "<svg>\n<polyline fill=\"none\" stroke=\"#000\" points=\"1,2 3,4 \"/>\n\
+                   <polyline fill=\"none\" stroke=\"#000\" points=\"5,6 7,8 \"/>\n\
+                   <polyline fill=\"none\" stroke=\"#fff\" points=\"0,0 1,1 \"/>\n\
+                   <line stroke=\"#eee\" x1=\"1\" y1=\"2\" x2=\"1\" y2=\"9\"/>\n\
+                   <line stroke=\"#eee\" x1=\"3\" y1=\"2\" x2=\"3\" y2=\"9\"/>\n</svg>\n";
+        assert_eq!(
+            super::merge_polylines(svg),
+            "<svg>\n<path fill=\"none\" stroke=\"#000\" d=\"M1,2 L3,4 M5,6 L7,8\"/>\n\
+             <path fill=\"none\" stroke=\"#fff\" d=\"M0,0 L1,1\"/>\n\
+             <path fill=\"none\" stroke=\"#eee\" d=\"M1,2 L1,9 M3,2 L3,9\"/>\n</svg>\n"
+        );
     }
 }

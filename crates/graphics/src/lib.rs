@@ -6,12 +6,16 @@
 //! - [`chart`]: line and point charts with bands and reference lines (RTDs, sweeps, traces).
 //! - [`polar`]: the BRDF in the plane of incidence, measured against fitted (Figure 18).
 //! - [`render`]: a flat square lit by a point light, seen by a pinhole camera (Figures 8, 12).
+//! - [`style`]: line and marker styles of series.
+//! - [`legend`]: legends in rows under a chart, outside its plotting area.
 //! - [`files`]: atomic writes of output files, figures as PNG and SVG, their font and errors.
 
 pub mod chart;
 pub mod files;
+pub mod legend;
 pub mod polar;
 pub mod render;
+pub mod style;
 pub mod target;
 
 pub use files::PlotError;

@@ -83,4 +83,29 @@ fn stats_reads_results_with_a_label_longer_than_the_limit() {
     assert!(table.contains(&long) && table.contains("RPLS"));
     let tests = std::fs::read_to_string(dir.path().join("runs/t/tests.csv")).unwrap();
     assert!(tests.contains(&long));
+    // `compare` pads its table's cells to the longest: it panicked from 65,536 characters.
+    let o = brdf_sls(
+        &["compare", "runs/t", "runs/t", "--out", "c.html"],
+        dir.path(),
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{}", &t[..t.len().min(2_000)]);
+    assert!(t.contains(&long) && t.contains("RPLS"));
+    // So is a data hash that long (results files are input): not comparable, and said so.
+    let copy = dir.path().join("runs/u");
+    std::fs::create_dir_all(&copy).unwrap();
+    let stored = std::fs::read_to_string(&results).unwrap();
+    let hash = "h".repeat(70_000);
+    let header_end = stored.find('\n').unwrap();
+    let mut header: serde_json::Value = serde_json::from_str(&stored[..header_end]).unwrap();
+    header["data_hashes"]["tuning"] = hash.clone().into();
+    let edited = format!("{}{}", header, &stored[header_end..]);
+    std::fs::write(copy.join("trials.jsonl"), edited).unwrap();
+    let o = brdf_sls(
+        &["compare", "runs/t", "runs/u", "--out", "u.html"],
+        dir.path(),
+    );
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{}", &t[..t.len().min(2_000)]);
+    assert!(t.contains("different instance data") && t.contains(&hash));
 }

@@ -396,3 +396,103 @@ fn a_huge_label_and_huge_numbers_fail_cleanly_or_parse() {
         }
     }
 }
+
+/// The tiny experiment run into `dir/a` (no plots): 4 trials of 3 configurations.
+fn tiny_run(dir: &Path) {
+    std::fs::write(dir.join("tiny.toml"), common::TINY).unwrap();
+    let o = brdf_sls(
+        dir,
+        &[
+            "run",
+            "tiny.toml",
+            "--out",
+            "a",
+            "--threads",
+            "2",
+            "--no-plots",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// `dir/a`'s results with `edit` applied to every line (as JSON), written to `dir/name`.
+fn edited(dir: &Path, name: &str, edit: impl Fn(&mut serde_json::Value)) {
+    let text = std::fs::read_to_string(dir.join("a/trials.jsonl")).unwrap();
+    let mut out = String::new();
+    for line in text.lines() {
+        let mut v: serde_json::Value = serde_json::from_str(line).unwrap();
+        edit(&mut v);
+        out.push_str(&serde_json::to_string(&v).unwrap());
+        out.push('\n');
+    }
+    std::fs::create_dir_all(dir.join(name)).unwrap();
+    std::fs::write(dir.join(name).join("trials.jsonl"), out).unwrap();
+}
+
+/// Every `cpu_seconds` under `v` set to `x`.
+fn set_cpu_seconds(v: &mut serde_json::Value, x: f64) {
+    match v {
+        serde_json::Value::Object(m) => {
+            if m.contains_key("cpu_seconds") && m.contains_key("evaluations") {
+                m.insert("cpu_seconds".into(), x.into());
+            }
+            m.values_mut().for_each(|c| set_cpu_seconds(c, x));
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(|c| set_cpu_seconds(c, x)),
+        _ => {}
+    }
+}
+
+/// Results files are input. A header created "at" 10^12 s or u64::MAX s (past the year 9999)
+/// panicked `report` and `compare` when they printed the date; times of 1e305 s and more, or
+/// subnormal ones (one trace point at 1e300 was enough), sent the log axes of `report`,
+/// `compare` and `plot` into endless tick loops. Each must now end at once with its page.
+#[test]
+fn absurd_dates_and_times_in_results_neither_panic_nor_hang() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    tiny_run(dir);
+    for created in [1_000_000_000_000u64, u64::MAX] {
+        edited(dir, "dated", |v| {
+            if v["type"] == "header" {
+                v["created_unix"] = created.into();
+            }
+            if v["type"] == "session" {
+                v["started_unix"] = created.into();
+            }
+        });
+        let o = brdf_sls(dir, &["report", "dated", "--out", "dated.html"]);
+        assert_eq!(o.status.code(), Some(0), "{created}: {}", stderr(&o));
+        let page = std::fs::read_to_string(dir.join("dated.html")).unwrap();
+        assert!(page.contains(&created.to_string()), "{created}");
+        let o = brdf_sls(dir, &["compare", "a", "dated", "--out", "dated-c.html"]);
+        assert_eq!(o.status.code(), Some(0), "{created}: {}", stderr(&o));
+    }
+    let one_point = |v: &mut serde_json::Value| {
+        if v["key"] == "tuning/RPLS/0" {
+            let trace = v["result"]["trace"].as_array_mut().unwrap();
+            trace.last_mut().unwrap()["at"]["cpu_seconds"] = 1e300.into();
+        }
+    };
+    edited(dir, "point", one_point);
+    edited(dir, "huge", |v| set_cpu_seconds(v, 1e305));
+    edited(dir, "subnormal", |v| set_cpu_seconds(v, 5e-324));
+    for name in ["point", "huge", "subnormal"] {
+        let o = brdf_sls(dir, &["plot", name]);
+        assert_eq!(o.status.code(), Some(0), "plot {name}: {}", stderr(&o));
+        let html = format!("{name}.html");
+        let o = brdf_sls(dir, &["report", name, "--out", &html]);
+        assert_eq!(o.status.code(), Some(0), "report {name}: {}", stderr(&o));
+        let o = brdf_sls(
+            dir,
+            &["compare", "a", name, "--measure", "cpu", "--out", &html],
+        );
+        // The CPU times differ by a factor of 1e300: B slower or faster, never a panic.
+        assert!(
+            matches!(o.status.code(), Some(0 | 3)),
+            "compare {name}: {:?} {}",
+            o.status.code(),
+            stderr(&o)
+        );
+    }
+}

@@ -97,7 +97,7 @@ fn run_report_and_compare_end_to_end() {
         "Success, median and ERT",
         "Pairwise tests",
         "Best fit",
-        "RTD - tuning, target RMSE 0.105",
+        "RTD in CPU seconds - tuning, target RMSE 0.105",
         "sample-evaluations to reach RMSE",
         "Run time vs target error",
         "AED: ERT and median vs phi",
@@ -105,6 +105,27 @@ fn run_report_and_compare_end_to_end() {
         assert!(page.contains(want), "report.html lacks {want}");
     }
     assert!(!page.contains("Partial results"));
+    // The answer first: the summary (with its sentence) before the plan and provenance, and
+    // the views and explanations the reader needs.
+    let at = |s: &str| {
+        page.find(s)
+            .unwrap_or_else(|| panic!("report.html lacks {s}"))
+    };
+    assert!(at("<table class=\"summary\">") < at("<h3>Experiment and plan</h3>"));
+    assert!(at("<ul class=\"verdicts\">") < at("<h3>Provenance</h3>"));
+    for want in [
+        "lowest ERT",
+        "How to read this page",
+        "Kaplan-Meier",
+        "Best RMSE by budget - tuning",
+        "<ul class=\"legend\">",
+        "data-key=\"RPLS\"",
+        "<a href=\"stats.csv\">stats.csv</a>",
+        "<details class=\"toc\">",
+        "<details class=\"tests\">",
+    ] {
+        at(want);
+    }
     assert!(!page.contains("<script"), "the page needs no script");
     assert!(!page.contains("http://") || !page.contains("src=\"http"));
 
@@ -143,11 +164,12 @@ fn run_report_and_compare_end_to_end() {
     wellformed::check(&cpage).unwrap();
     assert!(cpage.contains("A (solid) vs B (dashed)"));
 
-    // B ten times slower: exit status 1 (alpha raised: 4 trials per side are few).
+    // B ten times slower: exit status 3, the verdict's own (alpha raised: 4 trials per side
+    // are few); 1 stays for failures such as a page that cannot be written.
     copy_dir(&dir.join("b"), &dir.join("slow"));
     slow_down(&dir.join("slow"), 10);
     let t = expect(
-        1,
+        3,
         &["compare", "a", "slow", "--alpha", "0.5", "--out", "s.html"],
         dir,
     );
@@ -160,6 +182,13 @@ fn run_report_and_compare_end_to_end() {
         &["compare", "slow", "a", "--alpha", "0.5", "--out", "s.html"],
         dir,
     );
+    // A page that cannot be written (its folder is a file): a failure, 1.
+    let t = expect(
+        1,
+        &["compare", "a", "b", "--out", "a/report.html/c.html"],
+        dir,
+    );
+    assert!(t.contains("Not a directory"), "{t}");
 
     // A different budget: nothing comparable, bad input, the reason printed.
     let other = common::TINY.replace("evaluations = 400000", "evaluations = 300000");

@@ -211,7 +211,8 @@ fn classify(e: anyhow::Error) -> PyErr {
 /// Python objects (`brdf_sls.read_results` flattens them into records).
 ///
 /// Returns a dict: header, spec_name, planned, records (one dict per trial: key, instance,
-/// config, trial, seed, target, budget, result), stats (configs, tests, finals), torn,
+/// config, trial, seed, target, budget, result), stats (configs, tests, finals), stats_rows
+/// (the per-configuration statistics as flat records, the columns of `stats.csv`), torn,
 /// warnings.
 #[pyfunction]
 pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
@@ -224,6 +225,7 @@ pub fn read_results(py: Python<'_>, dir: PathBuf) -> PyResult<Py<PyAny>> {
     d.set_item("present", present)?;
     d.set_item("records", to_python(py, &contents.records)?)?;
     d.set_item("stats", to_python(py, &stats)?)?;
+    d.set_item("stats_rows", to_python(py, &stats.config_records())?)?;
     d.set_item("torn", contents.torn.as_ref().map(Vec::len))?;
     d.set_item("warnings", warnings)?;
     Ok(d.into_any().unbind())

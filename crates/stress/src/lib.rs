@@ -13,6 +13,8 @@
 //!    identifiability warnings, bootstrap intervals, sensitivity to perturbed data), also
 //!    usable on its own (`fit --diagnose`).
 //!
+//! [`StressReport::from_json`] reads a report back ([`json`]: `null` numbers as NaN).
+//!
 //! Every random draw comes from a seed derived from [`StressOptions::seed`] ([`derive_seed`]),
 //! so a report can be reproduced exactly.
 
@@ -21,6 +23,7 @@
 pub mod dd;
 pub mod diagnose;
 pub mod families;
+pub mod json;
 pub mod kernels;
 pub mod nist;
 pub mod reference;

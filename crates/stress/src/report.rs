@@ -83,6 +83,12 @@ impl StressReport {
         serde_json::to_string_pretty(self)
     }
 
+    /// Reads what [`StressReport::to_json`] writes, `null` numbers as NaN.
+    pub fn from_json(text: &str) -> serde_json::Result<StressReport> {
+        let value: serde_json::Value = serde_json::from_str(text)?;
+        serde::Deserialize::deserialize(crate::json::NullAsNan(value))
+    }
+
     /// Writes `stress.md` and `stress.json` into `dir` (created if missing), each through
     /// `write(path, bytes)`: the command line passes its atomic writer (temporary file, fsync,
     /// rename), so a failed write never leaves half a report.

@@ -3,8 +3,9 @@
 
 use serde_json::Value;
 
+use crate::analysis::Analysis;
 use crate::folder::Folder;
-use crate::stats::{Measure, Outcome, outcome};
+use crate::stats::{ConfigStats, Measure, MeasureSummary, Outcome, outcome};
 use brdf_experiment::store::TrialRecord;
 
 /// Relative difference under which two targets are the same target: a relative target is a
@@ -51,6 +52,8 @@ pub struct Entry {
     pub conditions: Conditions,
     /// Its trials.
     pub records: Vec<TrialRecord>,
+    /// Its statistics per target from its folder's analysis (empty: computed when compared).
+    pub stats: Vec<ConfigStats>,
 }
 
 impl Entry {
@@ -61,10 +64,20 @@ impl Entry {
             .map(|r| outcome(r, target, measure))
             .collect()
     }
+
+    /// Its summary for `target` in `measure` from its folder's analysis, if it has one.
+    pub fn summary(&self, target: f64, measure: Measure) -> Option<MeasureSummary> {
+        let s = self.stats.iter().find(|s| s.target == target)?;
+        Some(match measure {
+            Measure::CpuSeconds => s.cpu.clone(),
+            Measure::Evaluations => s.evaluations.clone(),
+        })
+    }
 }
 
-/// Every (instance, configuration) of a folder's plan, in the spec's order.
-pub fn entries(folder: &Folder) -> Vec<Entry> {
+/// Every (instance, configuration) of a folder's plan, in the spec's order, with its
+/// statistics from the folder's `analysis`.
+pub fn entries(folder: &Folder, analysis: &Analysis) -> Vec<Entry> {
     let spec = &folder.spec;
     let header = &folder.contents.header;
     let records = folder.records();
@@ -87,6 +100,13 @@ pub fn entries(folder: &Folder) -> Vec<Entry> {
                 records: records
                     .iter()
                     .filter(|r| r.instance == inst.name && r.config == c.label)
+                    .cloned()
+                    .collect(),
+                stats: analysis
+                    .stats
+                    .configs
+                    .iter()
+                    .filter(|s| s.instance == inst.name && s.config == c.label)
                     .cloned()
                     .collect(),
             });

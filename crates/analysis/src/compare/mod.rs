@@ -19,7 +19,7 @@
 
 use serde::Serialize;
 
-use crate::stats::{Measure, MeasureSummary, Outcome, holm, log_rank, summarise};
+use crate::stats::{Measure, MeasureSummary, Outcome, TestResult, holm, pairwise, summarise};
 
 mod conditions;
 pub mod text;
@@ -96,12 +96,10 @@ pub struct MeasureRow {
     pub median_change: Option<f64>,
     /// B's ERT over A's, minus 1, in the same way.
     pub ert_change: Option<f64>,
-    /// The log-rank p-value.
-    pub p: Option<f64>,
-    /// The Holm-adjusted log-rank p-value (over all comparable pairs, per measure).
-    pub p_holm: Option<f64>,
-    /// Log-rank hazard ratio of A against B: above 1, A reaches the target sooner.
-    pub hazard_ratio: Option<f64>,
+    /// The primary test ([`pairwise::primary`], the log-rank test) of A against B, its p-value
+    /// Holm-adjusted over all comparable pairs of the measure; its effect (the hazard ratio)
+    /// above 1 means A reaches the target sooner.
+    pub test: TestResult,
 }
 
 /// One (instance, configuration, target) of the comparison.
@@ -230,12 +228,14 @@ fn compare_entry(a: &Entry, b: &Entry, options: &Options) -> Vec<Row> {
         let mut r = row(Some(t), Verdict::NoDifference);
         let others = Measure::ALL.into_iter().filter(|m| *m != options.measure);
         for m in std::iter::once(options.measure).chain(others) {
-            r.measures.push(measure_row(
-                &a.outcomes(t, m),
-                &b.outcomes(u, m),
-                m,
-                options,
-            ));
+            let (oa, ob) = (a.outcomes(t, m), b.outcomes(u, m));
+            let sa = a
+                .summary(t, m)
+                .unwrap_or_else(|| summarise(&oa, options.bootstrap, options.seed));
+            let sb = b
+                .summary(u, m)
+                .unwrap_or_else(|| summarise(&ob, options.bootstrap, options.seed ^ 0xb));
+            r.measures.push(measure_row(&oa, &ob, m, (sa, sb)));
         }
         rows.push(r);
     }
@@ -260,30 +260,32 @@ pub fn relative_change(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     }
 }
 
-/// Summaries, changes and the log-rank test of A's and B's outcomes in one measure.
-pub fn measure_row(a: &[Outcome], b: &[Outcome], measure: Measure, o: &Options) -> MeasureRow {
-    let sa = summarise(a, o.bootstrap, o.seed);
-    let sb = summarise(b, o.bootstrap, o.seed ^ 0xb);
-    let lr = log_rank(a, b);
+/// Changes and the primary test of A's and B's outcomes in one measure, with their summaries
+/// (each side's own analysis when it has one).
+pub fn measure_row(
+    a: &[Outcome],
+    b: &[Outcome],
+    measure: Measure,
+    (sa, sb): (MeasureSummary, MeasureSummary),
+) -> MeasureRow {
     MeasureRow {
         measure,
         median_change: relative_change(sa.quantiles[2], sb.quantiles[2]),
         ert_change: relative_change(sa.ert, sb.ert),
         a: sa,
         b: sb,
-        p: lr.map(|x| x.p),
-        p_holm: None,
-        hazard_ratio: lr.map(|x| x.hazard_ratio),
+        test: TestResult::run(pairwise::primary(), a, b),
     }
 }
 
 /// Holm's adjustment of each measure's p-values over all comparable rows.
 fn adjust(rows: &mut [Row]) {
     for m in Measure::ALL {
-        let mut slots: Vec<&mut MeasureRow> = rows
+        let mut slots: Vec<&mut TestResult> = rows
             .iter_mut()
             .flat_map(|r| r.measures.iter_mut())
-            .filter(|x| x.measure == m && x.p.is_some())
+            .filter(|x| x.measure == m && x.test.p.is_some())
+            .map(|x| &mut x.test)
             .collect();
         let p: Vec<f64> = slots.iter().filter_map(|x| x.p).collect();
         for (slot, adj) in slots.iter_mut().zip(holm(&p)) {
@@ -294,7 +296,7 @@ fn adjust(rows: &mut [Row]) {
 
 /// The verdict of one comparable pair from its verdict measure (see the module rules).
 pub fn judge(m: &MeasureRow, o: &Options) -> Verdict {
-    if !m.p_holm.is_some_and(|p| p < o.alpha) {
+    if !m.test.significant(o.alpha) {
         return Verdict::NoDifference;
     }
     let change = if m.a.quantiles[2].is_none() && m.b.quantiles[2].is_none() {
@@ -306,13 +308,10 @@ pub fn judge(m: &MeasureRow, o: &Options) -> Verdict {
         return Verdict::NoDifference;
     };
     // The hazard ratio (A against B) must agree: above 1, A reaches the target sooner.
-    let hr = m.hazard_ratio.unwrap_or(1.0);
+    let hr = m.test.effect.unwrap_or(1.0);
     match (change > 0.0, hr) {
         (true, h) if h >= 1.0 => Verdict::Slower,
         (false, h) if h <= 1.0 => Verdict::Faster,
         _ => Verdict::NoDifference,
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -1,7 +1,7 @@
 //! The comparison as a plain-text table (what `brdf-sls compare` prints).
 
 use super::{Comparison, MeasureRow, Row};
-use crate::stats::fmt_num;
+use crate::stats::{fmt_num, pad_right};
 
 /// A relative change as a signed percentage (`+inf%` when only A reached).
 pub fn change_text(c: Option<f64>) -> String {
@@ -14,7 +14,7 @@ pub fn change_text(c: Option<f64>) -> String {
 
 /// A p-value with its Holm-adjusted value, e.g. `0.0012 (Holm 0.0036)`.
 pub fn p_text(m: &MeasureRow) -> String {
-    match (m.p, m.p_holm) {
+    match (m.test.p, m.test.p_holm) {
         (Some(p), Some(h)) => format!("{} (Holm {})", p_fmt(p), p_fmt(h)),
         _ => "-".into(),
     }
@@ -91,7 +91,7 @@ pub fn table(c: &Comparison) -> String {
         let cells: Vec<String> = r
             .iter()
             .zip(&widths)
-            .map(|(s, w)| format!("{s:<w$}"))
+            .map(|(s, w)| pad_right(s, *w))
             .collect();
         out.push_str(cells.join("  ").trim_end());
         out.push('\n');

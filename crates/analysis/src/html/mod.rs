@@ -9,16 +9,19 @@
 
 mod compare;
 mod figures;
+pub mod format;
 mod markdown;
 mod provenance;
 mod report;
 mod stress;
+mod summary;
 mod tables;
 pub mod wellformed;
 
 pub use compare::compare_page;
+pub use figures::{figure, legend};
 pub use provenance::machine_text;
-pub use report::report_page;
+pub use report::{report_page, report_page_of};
 pub use stress::stress_page;
 
 /// Errors building a page.
@@ -63,9 +66,10 @@ pub fn document(title: &str, body: &str) -> String {
     )
 }
 
-/// A table with a header row; `head` and `rows` are HTML.
+/// A table with a header row; `head` and `rows` are HTML. It scrolls sideways in its own box
+/// when wider than the page.
 pub fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
-    let mut s = format!("<table class=\"{class}\">\n<thead><tr>");
+    let mut s = format!("<div class=\"scroll\">\n<table class=\"{class}\">\n<thead><tr>");
     for h in head {
         s.push_str(&format!("<th>{h}</th>"));
     }
@@ -77,7 +81,49 @@ pub fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
         }
         s.push_str("</tr>\n");
     }
-    s.push_str("</tbody>\n</table>\n");
+    s.push_str("</tbody>\n</table>\n</div>\n");
+    s
+}
+
+/// A table with a caption (HTML), a header row and numeric columns (right-aligned, digits
+/// aligned, never wrapped), in a box that scrolls sideways on its own when it is wider than
+/// the page: the page itself never does.
+pub fn data_table(
+    class: &str,
+    caption: &str,
+    head: &[&str],
+    rows: &[Vec<String>],
+    numeric: &[usize],
+) -> String {
+    let td = |i: usize| {
+        if numeric.contains(&i) {
+            "<td class=\"num\">"
+        } else {
+            "<td>"
+        }
+    };
+    let mut s = format!("<div class=\"scroll\">\n<table class=\"{class}\">\n");
+    if !caption.is_empty() {
+        s.push_str(&format!("<caption>{caption}</caption>\n"));
+    }
+    s.push_str("<thead><tr>");
+    for (i, h) in head.iter().enumerate() {
+        let class = if numeric.contains(&i) {
+            " class=\"num\""
+        } else {
+            ""
+        };
+        s.push_str(&format!("<th{class}>{h}</th>"));
+    }
+    s.push_str("</tr></thead>\n<tbody>\n");
+    for r in rows {
+        s.push_str("<tr>");
+        for (i, c) in r.iter().enumerate() {
+            s.push_str(&format!("{}{c}</td>", td(i)));
+        }
+        s.push_str("</tr>\n");
+    }
+    s.push_str("</tbody>\n</table>\n</div>\n");
     s
 }
 
@@ -109,8 +155,16 @@ pub fn para(class: &str, text: &str) -> String {
     }
 }
 
-/// A Unix time as an ISO 8601 UTC date and time (`2026-12-03T17:40:08Z`).
+/// The last second ISO 8601 writes with a four-digit year (9999-12-31T23:59:59Z).
+const LAST_DATE_UNIX: u64 = 253_402_300_799;
+
+/// A Unix time as an ISO 8601 UTC date and time (`2026-12-03T17:40:08Z`); a time after the
+/// year 9999 (a results file is input: its header may hold anything) is given as the number
+/// of seconds it is.
 pub fn date(unix: u64) -> String {
+    if unix > LAST_DATE_UNIX {
+        return format!("{unix} s after 1970 (after the year 9999: not a date)");
+    }
     let t = std::time::UNIX_EPOCH + std::time::Duration::from_secs(unix);
     humantime::format_rfc3339_seconds(t).to_string()
 }
@@ -141,6 +195,15 @@ mod tests {
     fn date_is_utc_iso_8601() {
         assert_eq!(date(0), "1970-01-01T00:00:00Z");
         assert_eq!(date(1_764_780_000), "2025-12-03T16:40:00Z");
+        assert_eq!(date(LAST_DATE_UNIX), "9999-12-31T23:59:59Z");
+        // Headers are input: any u64 must give text, not a panic.
+        for unix in [LAST_DATE_UNIX + 1, 1_000_000_000_000, u64::MAX] {
+            let d = date(unix);
+            assert!(
+                d.contains(&unix.to_string()) && d.contains("not a date"),
+                "{d}"
+            );
+        }
     }
 
     #[test]

@@ -9,11 +9,12 @@ use super::{PageError, date, document, escape, key_values, markdown, section, ta
 use brdf_experiment::machine::MachineInfo;
 
 /// The whole stress page of `report`, with `charts` (those of
-/// [`crate::stress_charts::charts`]) inline, run on `machine` and written at `written_unix`.
+/// [`crate::stress_charts::charts`]) inline, run on `machine` (`None`: the page is rewritten
+/// from stress.json, which does not record it) and written at `written_unix`.
 pub fn stress_page(
     report: &StressReport,
     charts: &[Chart],
-    machine: &MachineInfo,
+    machine: Option<&MachineInfo>,
     written_unix: u64,
 ) -> Result<String, PageError> {
     let title = "brdf-sls stress: numerical stress report";
@@ -58,7 +59,7 @@ pub fn stress_page(
 }
 
 /// Mode, seed, threads, kernels, times, program version, machine and date.
-fn facts(r: &StressReport, machine: &MachineInfo, written_unix: u64) -> String {
+fn facts(r: &StressReport, machine: Option<&MachineInfo>, written_unix: u64) -> String {
     let s = r.seconds;
     key_values(&[
         ("mode", if r.quick { "quick" } else { "full" }.into()),
@@ -72,8 +73,20 @@ fn facts(r: &StressReport, machine: &MachineInfo, written_unix: u64) -> String {
                 s[3], s[0], s[1], s[2]
             ),
         ),
-        ("program", escape(brdf_experiment::PROGRAM_VERSION)),
-        ("machine", escape(&super::machine_text(machine))),
+        match machine {
+            Some(_) => ("program", escape(brdf_experiment::PROGRAM_VERSION)),
+            None => (
+                "page rewritten by",
+                escape(brdf_experiment::PROGRAM_VERSION),
+            ),
+        },
+        (
+            "machine",
+            machine.map_or_else(
+                || "not recorded in stress.json (this page was rewritten from it)".into(),
+                |m| escape(&super::machine_text(m)),
+            ),
+        ),
         ("written", date(written_unix)),
     ])
 }
@@ -90,7 +103,7 @@ fn verdict(passed: bool) -> &'static str {
 /// Every check with its verdict, measured value, tolerance and reason; failed rows tinted.
 fn checks(r: &StressReport) -> String {
     let mut s = String::from(
-        "<table class=\"checks\">\n<thead><tr><th>check</th><th>result</th><th>measured</th>\
+        "<div class=\"scroll\">\n<table class=\"checks\">\n<thead><tr><th>check</th><th>result</th><th>measured</th>\
          <th>tolerance</th><th>why this tolerance</th></tr></thead>\n<tbody>\n",
     );
     for c in &r.checks {
@@ -104,7 +117,7 @@ fn checks(r: &StressReport) -> String {
             escape(&c.reason)
         ));
     }
-    s.push_str("</tbody>\n</table>\n");
+    s.push_str("</tbody>\n</table>\n</div>\n");
     s
 }
 
@@ -158,7 +171,14 @@ fn kernels(r: &StressReport, chart: Option<&Chart>) -> Result<String, PageError>
         &rows,
     ));
     if let Some(c) = chart {
-        s.push_str(&figure(c, "kernel-ulps-histogram")?);
+        s.push_str(&figure(
+            c,
+            "kernel-ulps-histogram",
+            "The share of each kernel's values whose error against the double-double reference \
+             falls in each bin of ulps (units in the last place); further left is more accurate. \
+             Kernels that agree bin for bin lie on top of each other (distinct dash patterns \
+             keep each visible).",
+        )?);
     }
     for ks in &k.kernels {
         let mut body = String::new();
@@ -242,10 +262,16 @@ fn suite(r: &StressReport, chart: Option<&Chart>) -> Result<String, PageError> {
         ),
     );
     if let Some(c) = chart {
-        s.push_str(&figure(c, "solver-suite-map")?);
+        s.push_str(&figure(
+            c,
+            "solver-suite-map",
+            "Every case of the solver suite, one point per case in suite order within its group: \
+             filled green where the solver got it right, hollow where it returned a failure code, \
+             filled where the suite counts a failure.",
+        )?);
     }
     s.push_str(
-        "<table class=\"cases\">\n<thead><tr><th>group</th><th>case</th><th>code</th>\
+        "<div class=\"scroll\">\n<table class=\"cases\">\n<thead><tr><th>group</th><th>case</th><th>code</th>\
          <th>outcome</th><th>right</th><th>measured</th><th>iterations</th>\
          <th>evaluations (r / J)</th><th>suite failure</th></tr></thead>\n<tbody>\n",
     );
@@ -273,7 +299,7 @@ fn suite(r: &StressReport, chart: Option<&Chart>) -> Result<String, PageError> {
             cells.join("</td><td>")
         ));
     }
-    s.push_str("</tbody>\n</table>\n");
+    s.push_str("</tbody>\n</table>\n</div>\n");
     let mut crit: Vec<&str> = su.cases.iter().map(|c| c.criterion.as_str()).collect();
     crit.sort_unstable();
     crit.dedup();
@@ -320,7 +346,7 @@ mod tests {
             .into_iter()
             .map(|(_, c)| c)
             .collect();
-        let page = stress_page(&report, &charts, &MachineInfo::current(2), 0).unwrap();
+        let page = stress_page(&report, &charts, Some(&MachineInfo::current(2)), 0).unwrap();
         super::super::wellformed::check(&page).unwrap();
         for c in &report.checks {
             assert!(
@@ -340,7 +366,7 @@ mod tests {
             );
         }
         assert!(page.contains("tiny &lt;synthetic&gt;") && !page.contains("<synthetic>"));
-        assert_eq!(page.matches("<svg ").count(), 2);
+        assert_eq!(page.matches("<svg role=\"img\"").count(), 2);
         assert!(page.contains("<tr class=\"fail\"><td>"));
         assert!(page.contains("FAILED</strong>"));
         assert!(page.contains("1970-01-01T00:00:00Z"));

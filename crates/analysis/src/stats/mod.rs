@@ -28,24 +28,31 @@ use serde::{Deserialize, Serialize};
 use statrs::statistics::{Data, Distribution, Max, Min, OrderStatistics};
 
 mod bootstrap;
+mod cell;
 mod hypothesis;
 mod infinite;
 mod ks;
 mod logrank;
 mod mann_whitney;
+pub mod pairwise;
 mod rtd;
 mod tables;
 
 pub use bootstrap::{bootstrap_ert, simulated_restarts};
+pub use cell::{Cell, CellKind};
 pub use hypothesis::holm;
 pub use ks::{KS_EXACT_MAX_N, kolmogorov_sf, kolmogorov_smirnov, ks_statistic};
 pub use logrank::{LogRank, log_rank};
 pub use mann_whitney::{MW_EXACT_MAX_N, mann_whitney};
+pub use pairwise::{Direction, TESTS, Test, TestResult};
 pub use rtd::{
-    Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier, outcome,
-    quantile,
+    Measure, Outcome, cdf_at, censoring_heterogeneous, domination, ert, kaplan_meier,
+    kaplan_meier_band, outcome, quantile,
 };
-pub use tables::{configs_csv, csv_field, fmt_num, fmt_target, table, tests_csv};
+pub use tables::{
+    configs_csv, csv_field, direction_text, fmt_num, fmt_target, pad_right, significant, table,
+    target_digits, target_text, tests_csv,
+};
 
 use brdf_experiment::seed::StableHasher;
 use brdf_experiment::store::TrialRecord;
@@ -75,6 +82,33 @@ pub struct MeasureSummary {
     pub restarts: Option<[f64; 3]>,
     /// Whether censoring times differ (Kaplan-Meier then differs from the plain ECDF).
     pub km_censoring: bool,
+}
+
+impl MeasureSummary {
+    /// The summary's columns in `stats.csv` (and the Python package's records), in order.
+    pub fn cells(&self) -> Vec<(&'static str, Cell)> {
+        let q = self.quantiles;
+        let r = self.restarts.map_or([None; 3], |r| r.map(Some));
+        vec![
+            ("trials", Cell::Count(self.trials)),
+            ("successes", Cell::Count(self.successes)),
+            ("success_rate", Cell::Number(Some(self.success_rate))),
+            ("q10", Cell::Time(q[0])),
+            ("q25", Cell::Time(q[1])),
+            ("q50", Cell::Time(q[2])),
+            ("q75", Cell::Time(q[3])),
+            ("q90", Cell::Time(q[4])),
+            ("ert", Cell::Time(self.ert)),
+            ("ert_sd", Cell::Time(self.ert_sd)),
+            ("ert_p10", Cell::Time(self.ert_p10)),
+            ("ert_p50", Cell::Time(self.ert_p50)),
+            ("ert_p90", Cell::Time(self.ert_p90)),
+            ("restart_p10", Cell::Time(r[0])),
+            ("restart_p50", Cell::Time(r[1])),
+            ("restart_p90", Cell::Time(r[2])),
+            ("km_censoring", Cell::Flag(self.km_censoring)),
+        ]
+    }
 }
 
 /// Quantile levels reported in [`MeasureSummary::quantiles`].
@@ -120,8 +154,12 @@ pub struct ConfigStats {
     pub evaluations: MeasureSummary,
 }
 
-/// A pairwise comparison of two configurations' RTDs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// A pairwise comparison of two configurations' RTDs: every test of [`TESTS`] on the pair.
+///
+/// In `stats.json` (and for Python) a pair is one flat object: `instance`, `target`, `measure`,
+/// `a`, `b`, then each test's columns ([`TestResult::cells`]) in [`TESTS`] order, the same
+/// columns as `tests.csv`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct PairTest {
     /// Instance name.
     pub instance: String,
@@ -133,38 +171,82 @@ pub struct PairTest {
     pub a: String,
     /// Second configuration.
     pub b: String,
-    /// Mann-Whitney U of `a` (censored = +inf).
-    pub mw_u: Option<f64>,
-    /// Two-sided Mann-Whitney p-value.
-    pub mw_p: Option<f64>,
-    /// Holm-adjusted Mann-Whitney p-value.
-    pub mw_p_holm: Option<f64>,
-    /// Kolmogorov-Smirnov D.
-    pub ks_d: Option<f64>,
-    /// Two-sided KS p-value.
-    pub ks_p: Option<f64>,
-    /// Holm-adjusted KS p-value.
-    pub ks_p_holm: Option<f64>,
-    /// `a`'s RTD is at or above `b`'s everywhere and above somewhere.
-    pub a_dominates: bool,
-    /// `b`'s RTD is at or above `a`'s everywhere and above somewhere.
-    pub b_dominates: bool,
-    /// Log-rank chi-square (censored runs at their own censoring times; [`log_rank`]).
-    #[serde(default)]
-    pub lr_chi2: Option<f64>,
-    /// Log-rank p-value (chi-square, 1 degree of freedom).
-    #[serde(default)]
-    pub lr_p: Option<f64>,
-    /// Holm-adjusted log-rank p-value.
-    #[serde(default)]
-    pub lr_p_holm: Option<f64>,
-    /// Hazard ratio estimate `(O_a/E_a)/(O_b/E_b)`: above 1, `a` reaches the target sooner.
-    /// Infinite when only `a` ever reached the target (0 when only `b` did); `None` when there
-    /// is no log-rank test. The infinity is written as the string `"inf"` in `stats.json`
-    /// (JSON has no infinity; `null` means no test) and as `inf` in `tests.csv` (where no test
-    /// is an empty field).
-    #[serde(default, with = "infinite")]
-    pub lr_hazard_ratio: Option<f64>,
+    /// One result per test of [`TESTS`], in that order.
+    pub results: Vec<TestResult>,
+}
+
+impl PairTest {
+    /// The result of `test` on this pair.
+    pub fn result(&self, test: &Test) -> Option<&TestResult> {
+        self.results.iter().find(|r| r.test == test)
+    }
+
+    /// The configuration that `test` finds reaching the target sooner, if any.
+    pub fn sooner(&self, test: &Test) -> Option<&str> {
+        match self.result(test)?.direction {
+            Direction::A => Some(&self.a),
+            Direction::B => Some(&self.b),
+            Direction::Neither => None,
+        }
+    }
+}
+
+impl Serialize for PairTest {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(None)?;
+        map.serialize_entry("instance", &self.instance)?;
+        map.serialize_entry("target", &self.target)?;
+        map.serialize_entry("measure", &self.measure)?;
+        map.serialize_entry("a", &self.a)?;
+        map.serialize_entry("b", &self.b)?;
+        pairwise::serialize_cells(&self.results, &mut map)?;
+        map.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for PairTest {
+    /// Reads what [`Serialize`] writes; a test's missing column reads as no value (files
+    /// written before the log-rank test have none of its columns).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut m = serde_json::Map::deserialize(d)?;
+        let mut take = |k: &str| m.remove(k).unwrap_or(serde_json::Value::Null);
+        fn field<T: serde::de::DeserializeOwned, E: Error>(
+            k: &str,
+            v: serde_json::Value,
+        ) -> Result<T, E> {
+            serde_json::from_value(v).map_err(|e| E::custom(format!("{k}: {e}")))
+        }
+        let instance = field("instance", take("instance"))?;
+        let target = field("target", take("target"))?;
+        let measure = field("measure", take("measure"))?;
+        let a = field("a", take("a"))?;
+        let b = field("b", take("b"))?;
+        let mut results = Vec::new();
+        for test in TESTS {
+            let r = TestResult::from_cells(test, |column, kind| {
+                let v = take(column);
+                let read = match kind {
+                    CellKind::Number => serde_json::from_value(v).map(Cell::Number),
+                    CellKind::Effect => infinite::deserialize(v).map(Cell::Effect),
+                    CellKind::Flag => serde_json::from_value::<Option<bool>>(v)
+                        .map(|f| Cell::Flag(f == Some(true))),
+                };
+                read.map_err(|e| format!("{column}: {e}"))
+            })
+            .map_err(D::Error::custom)?;
+            results.push(r);
+        }
+        Ok(PairTest {
+            instance,
+            target,
+            measure,
+            a,
+            b,
+            results,
+        })
+    }
 }
 
 /// All statistics of an experiment.
@@ -179,6 +261,30 @@ pub struct StatsReport {
     /// Final solution quality per instance and configuration (the paper's Table 5).
     #[serde(default)]
     pub finals: Vec<FinalQuality>,
+}
+
+impl StatsReport {
+    /// The per-configuration statistics as flat records (the Python package's `stats`): per
+    /// instance, configuration, target and measure (`cpu` or `evaluations`, the names of the
+    /// summaries in `stats.json`), the columns of `stats.csv` ([`MeasureSummary::cells`]).
+    pub fn config_records(&self) -> Vec<serde_json::Map<String, serde_json::Value>> {
+        let mut out = Vec::new();
+        for c in &self.configs {
+            for (measure, m) in [("cpu", &c.cpu), ("evaluations", &c.evaluations)] {
+                let mut row = serde_json::Map::new();
+                row.insert("instance".into(), c.instance.clone().into());
+                row.insert("config".into(), c.config.clone().into());
+                row.insert("target".into(), c.target.into());
+                row.insert("measure".into(), measure.into());
+                for (name, cell) in m.cells() {
+                    let v = serde_json::to_value(cell).unwrap_or(serde_json::Value::Null);
+                    row.insert(name.into(), v);
+                }
+                out.push(row);
+            }
+        }
+        out
+    }
 }
 
 /// The distribution of the best full-data RMSE at the end of each trial, and of the CPU time
@@ -350,34 +456,17 @@ pub fn compute(
                     for j in i + 1..gs.len() {
                         let oa = group_outcomes(gs[i], t, m);
                         let ob = group_outcomes(gs[j], t, m);
-                        let a: Vec<f64> = oa.iter().map(Outcome::time_or_inf).collect();
-                        let b: Vec<f64> = ob.iter().map(Outcome::time_or_inf).collect();
-                        let mw = mann_whitney(&a, &b);
-                        let ks = kolmogorov_smirnov(&a, &b);
-                        let (ad, bd) = domination(&kaplan_meier(&oa), &kaplan_meier(&ob));
-                        let lr = log_rank(&oa, &ob);
                         tests.push(PairTest {
                             instance: inst.clone(),
                             target: t,
                             measure: m,
                             a: gs[i].config.clone(),
                             b: gs[j].config.clone(),
-                            mw_u: mw.map(|x| x.0),
-                            mw_p: mw.map(|x| x.1),
-                            mw_p_holm: None,
-                            ks_d: ks.map(|x| x.0),
-                            ks_p: ks.map(|x| x.1),
-                            ks_p_holm: None,
-                            a_dominates: ad,
-                            b_dominates: bd,
-                            lr_chi2: lr.map(|x| x.chi2),
-                            lr_p: lr.map(|x| x.p),
-                            lr_p_holm: None,
-                            lr_hazard_ratio: lr.map(|x| x.hazard_ratio),
+                            results: pairwise::run_all(&oa, &ob),
                         });
                     }
                 }
-                adjust_family(&mut tests[start..]);
+                pairwise::adjust(tests[start..].iter_mut().map(|t| &mut t.results));
             }
         }
     }
@@ -386,234 +475,5 @@ pub fn compute(
         configs,
         tests,
         finals: groups.iter().map(final_quality).collect(),
-    }
-}
-
-fn adjust_family(family: &mut [PairTest]) {
-    let apply = |get: fn(&PairTest) -> Option<f64>, fam: &[PairTest]| -> Vec<Option<f64>> {
-        let idx: Vec<usize> = (0..fam.len()).filter(|&i| get(&fam[i]).is_some()).collect();
-        let p: Vec<f64> = idx.iter().filter_map(|&i| get(&fam[i])).collect();
-        let adj = holm(&p);
-        let mut out = vec![None; fam.len()];
-        for (k, &i) in idx.iter().enumerate() {
-            out[i] = Some(adj[k]);
-        }
-        out
-    };
-    let mw = apply(|t| t.mw_p, family);
-    let ks = apply(|t| t.ks_p, family);
-    let lr = apply(|t| t.lr_p, family);
-    for (i, t) in family.iter_mut().enumerate() {
-        t.mw_p_holm = mw[i];
-        t.ks_p_holm = ks[i];
-        t.lr_p_holm = lr[i];
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn succ(t: f64) -> Outcome {
-        Outcome {
-            success: Some(t),
-            spent: t,
-        }
-    }
-    fn cens(t: f64) -> Outcome {
-        Outcome {
-            success: None,
-            spent: t,
-        }
-    }
-
-    fn ended(i: u32, best: f64, cpu: f64, stop: sls::StopReason) -> TrialRecord {
-        let at = sls::Stamp {
-            cpu_seconds: cpu,
-            wall_seconds: cpu,
-            evaluations: sls::EvalCounts::default(),
-        };
-        TrialRecord {
-            key: TrialRecord::make_key("i", "DS", i),
-            instance: "i".into(),
-            config: "DS".into(),
-            trial: i,
-            seed: u64::from(i),
-            target: 0.1,
-            budget: sls::Budget {
-                cpu_seconds: Some(10.0),
-                sample_evaluations: None,
-            },
-            result: sls::TrialResult {
-                stop,
-                reached_at: None,
-                ended_at: at,
-                best_rmse: best,
-                best_x: vec![],
-                trace: vec![],
-                counters: vec![],
-                failure: None,
-            },
-        }
-    }
-
-    #[test]
-    fn final_quality_hand_computed() {
-        use sls::StopReason::{CpuBudget, Finished};
-        let recs = [
-            ended(0, 0.75, 1.0, Finished),
-            ended(1, 0.25, 4.0, Finished),
-            ended(2, f64::INFINITY, 10.0, CpuBudget),
-            ended(3, 0.5, 2.0, Finished),
-        ];
-        let g = Group {
-            instance: "i".into(),
-            config: "DS".into(),
-            records: recs.iter().collect(),
-        };
-        let q = final_quality(&g);
-        // The trial without a finite RMSE counts as a trial but not in the RMSE statistics.
-        assert_eq!((q.trials, q.finished), (4, 3));
-        assert_eq!(q.rmse_mean, Some(0.5));
-        assert_eq!(q.rmse_median, Some(0.5));
-        assert_eq!((q.rmse_min, q.rmse_max), (Some(0.25), Some(0.75)));
-        assert_eq!(q.end_cpu_median, Some(3.0));
-        assert_eq!(q.end_cpu_max, Some(10.0));
-        let empty = final_quality(&Group {
-            instance: "i".into(),
-            config: "DS".into(),
-            records: vec![&recs[2]],
-        });
-        assert_eq!((empty.rmse_mean, empty.rmse_median), (None, None));
-        assert_eq!((empty.rmse_min, empty.rmse_max), (None, None));
-        assert_eq!(empty.end_cpu_median, Some(10.0));
-        let report = StatsReport {
-            bootstrap: 0,
-            configs: vec![],
-            tests: vec![],
-            finals: vec![q],
-        };
-        let csv = finals_csv(&report);
-        assert_eq!(csv.lines().nth(1), Some("i,DS,4,3,0.5,0.5,0.25,0.75,3,10"));
-        assert!(table(&report).contains("final RMSE per trial"));
-    }
-
-    #[test]
-    fn ert_hand_computed() {
-        // 3 successes at 1, 2, 3 s; 2 runs censored at the 10 s cutoff:
-        // ERT = (1 + 2 + 3 + 2 * 10) / 3 = 26/3 = mean 2 + (2/5)/(3/5) * 10.
-        let o = [succ(1.0), cens(10.0), succ(2.0), cens(10.0), succ(3.0)];
-        assert!((ert(&o) - 26.0 / 3.0).abs() < 1e-12);
-        assert!(ert(&[cens(1.0)]).is_infinite());
-        let s = summarise(&o, 200, 1);
-        assert_eq!(s.successes, 3);
-        assert!((s.success_rate - 0.6).abs() < 1e-12);
-        // Shared cutoff: the RTD is the ECDF over all 5 runs: 0.2, 0.4, 0.6 at 1, 2, 3.
-        assert_eq!(s.quantiles, [Some(1.0), Some(2.0), Some(3.0), None, None]);
-        assert!(!s.km_censoring);
-        let (lo, hi) = (s.ert_p10.unwrap(), s.ert_p90.unwrap());
-        assert!(lo <= 26.0 / 3.0 && 26.0 / 3.0 <= hi, "{lo} {hi}");
-        let r = s.restarts.unwrap();
-        assert!(r[0] >= 1.0 && r[0] <= r[1] && r[1] <= r[2]);
-        // Seeded: the same seed gives the same bootstrap.
-        assert_eq!(s, summarise(&o, 200, 1));
-    }
-
-    #[test]
-    fn kaplan_meier_hand_computed() {
-        // Success 1, censored 2, success 3, success 4: S = 3/4, then 3/4 * 1/2 = 3/8, then 0.
-        let o = [succ(1.0), cens(2.0), succ(3.0), succ(4.0)];
-        let km = kaplan_meier(&o);
-        assert_eq!(km.len(), 3);
-        assert!((km[0].1 - 0.25).abs() < 1e-12);
-        assert!((km[1].1 - 0.625).abs() < 1e-12);
-        assert!((km[2].1 - 1.0).abs() < 1e-12);
-        assert!(censoring_heterogeneous(&o));
-        assert_eq!(quantile(&km, 0.5), Some(3.0));
-        assert_eq!(cdf_at(&km, 3.5), 0.625);
-        assert_eq!(cdf_at(&km, 0.5), 0.0);
-    }
-
-    #[test]
-    fn holm_hand_computed() {
-        let adj = holm(&[0.01, 0.04, 0.03]);
-        let want = [0.03, 0.06, 0.06];
-        for (x, y) in adj.iter().zip(want) {
-            assert!((x - y).abs() < 1e-12, "{adj:?}");
-        }
-    }
-
-    #[test]
-    fn domination_detects_order() {
-        let fast = kaplan_meier(&[succ(1.0), succ(2.0)]);
-        let slow = kaplan_meier(&[succ(3.0), cens(5.0)]);
-        assert_eq!(domination(&fast, &slow), (true, false));
-        assert_eq!(domination(&slow, &fast), (false, true));
-        let x = kaplan_meier(&[succ(1.0), succ(10.0)]);
-        let y = kaplan_meier(&[succ(2.0), succ(3.0)]);
-        assert_eq!(domination(&x, &y), (false, false));
-    }
-
-    fn pair_test(hazard_ratio: Option<f64>) -> PairTest {
-        PairTest {
-            instance: "i".into(),
-            target: 0.1,
-            measure: Measure::CpuSeconds,
-            a: "A".into(),
-            b: "B".into(),
-            mw_u: Some(1.0),
-            mw_p: Some(0.5),
-            mw_p_holm: Some(0.5),
-            ks_d: Some(0.25),
-            ks_p: Some(0.75),
-            ks_p_holm: Some(0.75),
-            a_dominates: true,
-            b_dominates: false,
-            lr_chi2: hazard_ratio.map(|_| 4.0),
-            lr_p: hazard_ratio.map(|_| 0.05),
-            lr_p_holm: hazard_ratio.map(|_| 0.05),
-            lr_hazard_ratio: hazard_ratio,
-        }
-    }
-
-    /// An infinite hazard ratio (only `a` reached the target) must not read like "no test":
-    /// `"inf"` in stats.json and `inf` in tests.csv, where no test is `null` and empty.
-    #[test]
-    fn infinite_hazard_ratio_differs_from_no_test_in_json_and_csv() {
-        let cases = [
-            (Some(f64::INFINITY), serde_json::json!("inf"), "inf"),
-            (Some(0.0), serde_json::json!(0.0), "0"),
-            (Some(2.5), serde_json::json!(2.5), "2.5"),
-            (None, serde_json::Value::Null, ""),
-        ];
-        for (hr, json, csv) in cases {
-            let t = pair_test(hr);
-            let value = serde_json::to_value(&t).unwrap();
-            assert_eq!(value["lr_hazard_ratio"], json, "{hr:?}");
-            let back: PairTest = serde_json::from_str(&serde_json::to_string(&t).unwrap()).unwrap();
-            assert_eq!(back, t);
-            let report = StatsReport {
-                bootstrap: 0,
-                configs: vec![],
-                tests: vec![t],
-                finals: vec![],
-            };
-            let row = tests_csv(&report);
-            let last = row.lines().nth(1).unwrap().rsplit(',').next().unwrap();
-            assert_eq!(last, csv, "{hr:?}");
-        }
-        // Files written before: `null` and a missing field both read as no ratio.
-        let mut old = serde_json::to_value(pair_test(Some(1.0))).unwrap();
-        old["lr_hazard_ratio"] = serde_json::Value::Null;
-        let t: PairTest = serde_json::from_value(old.clone()).unwrap();
-        assert_eq!(t.lr_hazard_ratio, None);
-        old.as_object_mut().unwrap().remove("lr_hazard_ratio");
-        let t: PairTest = serde_json::from_value(old.clone()).unwrap();
-        assert_eq!(t.lr_hazard_ratio, None);
-        old["lr_hazard_ratio"] = serde_json::json!("infinite");
-        let e = serde_json::from_value::<PairTest>(old)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("\"inf\""), "{e}");
     }
 }

@@ -96,6 +96,17 @@ pub fn ert(outcomes: &[Outcome]) -> f64 {
 /// success time, in increasing time. Censored runs leave the risk set at their censoring time
 /// (a run censored at exactly a success time counts as still at risk then).
 pub fn kaplan_meier(outcomes: &[Outcome]) -> Vec<(f64, f64)> {
+    kaplan_meier_band(outcomes)
+        .into_iter()
+        .map(|(t, f, _, _)| (t, f))
+        .collect()
+}
+
+/// [`kaplan_meier`] with a pointwise 95% confidence band: `(time, F, lo, hi)`, Greenwood's
+/// variance `S^2 sum d_j / (n_j (n_j - d_j))` of the survival `S = 1 - F`, as `F +- 1.96 sd`
+/// clamped to [0, 1] (the binomial interval's normal approximation when all runs share one
+/// cutoff).
+pub fn kaplan_meier_band(outcomes: &[Outcome]) -> Vec<(f64, f64, f64, f64)> {
     let mut events: Vec<(f64, bool)> = outcomes
         .iter()
         .map(|o| match o.success {
@@ -107,6 +118,7 @@ pub fn kaplan_meier(outcomes: &[Outcome]) -> Vec<(f64, f64)> {
     events.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
     let mut at_risk = events.len() as f64;
     let mut survival = 1.0;
+    let mut greenwood = 0.0;
     let mut curve = Vec::new();
     let mut i = 0;
     while i < events.len() {
@@ -123,7 +135,12 @@ pub fn kaplan_meier(outcomes: &[Outcome]) -> Vec<(f64, f64)> {
         }
         if deaths > 0.0 {
             survival *= 1.0 - deaths / at_risk;
-            curve.push((t, 1.0 - survival));
+            if at_risk > deaths {
+                greenwood += deaths / (at_risk * (at_risk - deaths));
+            }
+            let half = 1.96 * survival * greenwood.sqrt();
+            let f = 1.0 - survival;
+            curve.push((t, f, (f - half).max(0.0), (f + half).min(1.0)));
         }
         at_risk -= deaths + censored;
     }

@@ -1,82 +1,65 @@
 //! The statistics as CSV files and as the table printed after a run.
 
-use super::{Measure, PairTest, StatsReport};
+use super::{Cell, Direction, Measure, PairTest, StatsReport, TESTS, TestResult};
 
-/// An optional statistic: empty when there is none (no test was possible); an infinite one
-/// is `inf`.
-fn opt_none(v: Option<f64>) -> String {
-    v.map_or_else(String::new, |x| format!("{x}"))
-}
-
-/// An optional time: `inf` when there is none (the target was not reached).
-fn opt(v: Option<f64>) -> String {
-    v.map_or_else(|| "inf".to_string(), |x| format!("{x}"))
-}
-
-/// The per-configuration statistics as CSV (one row per instance, configuration, target, measure).
+/// The per-configuration statistics as CSV (one row per instance, configuration, target,
+/// measure); the columns after `measure` are [`MeasureSummary::cells`](super::MeasureSummary::cells).
 pub fn configs_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,config,target,measure,trials,successes,success_rate,q10,q25,q50,q75,q90,ert,ert_sd,ert_p10,ert_p50,ert_p90,restart_p10,restart_p50,restart_p90,km_censoring\n",
-    );
+    let mut s = String::new();
     for c in &report.configs {
         for (m, ms) in [
             (Measure::CpuSeconds, &c.cpu),
             (Measure::Evaluations, &c.evaluations),
         ] {
-            let q: Vec<String> = ms.quantiles.iter().map(|v| opt(*v)).collect();
-            let r = ms.restarts.map_or([None; 3], |r| r.map(Some));
-            let fields = [
+            let cells = ms.cells();
+            if s.is_empty() {
+                s = header(&["instance", "config", "target", "measure"], &cells);
+            }
+            let mut fields = vec![
                 csv_field(&c.instance),
                 csv_field(&c.config),
                 c.target.to_string(),
                 m.short().to_string(),
-                ms.trials.to_string(),
-                ms.successes.to_string(),
-                ms.success_rate.to_string(),
-                q.join(","),
-                opt(ms.ert),
-                opt(ms.ert_sd),
-                opt(ms.ert_p10),
-                opt(ms.ert_p50),
-                opt(ms.ert_p90),
-                opt(r[0]),
-                opt(r[1]),
-                opt(r[2]),
-                ms.km_censoring.to_string(),
             ];
+            fields.extend(cells.iter().map(|(_, v)| v.csv()));
             s.push_str(&fields.join(","));
             s.push('\n');
         }
     }
+    if s.is_empty() {
+        let empty = super::summarise(&[], 0, 0);
+        s = header(&["instance", "config", "target", "measure"], &empty.cells());
+    }
     s
 }
 
-/// The pairwise tests as CSV.
+/// A CSV header: the leading columns, then the cells' names.
+fn header(first: &[&str], cells: &[(&'static str, Cell)]) -> String {
+    let mut names: Vec<&str> = first.to_vec();
+    names.extend(cells.iter().map(|c| c.0));
+    names.join(",") + "\n"
+}
+
+/// The pairwise tests as CSV: the pair, then every test's columns in [`TESTS`] order.
 pub fn tests_csv(report: &StatsReport) -> String {
-    let mut s = String::from(
-        "instance,target,measure,a,b,mw_u,mw_p,mw_p_holm,ks_d,ks_p,ks_p_holm,a_dominates,b_dominates,lr_chi2,lr_p,lr_p_holm,lr_hazard_ratio\n",
-    );
+    let mut names = vec!["instance", "target", "measure", "a", "b"];
+    for t in TESTS {
+        names.extend(TestResult::empty(t).cells().iter().map(|c| c.0));
+    }
+    let mut s = names.join(",") + "\n";
     for t in &report.tests {
-        s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        let mut fields = vec![
             csv_field(&t.instance),
-            t.target,
-            t.measure.short(),
+            t.target.to_string(),
+            t.measure.short().to_string(),
             csv_field(&t.a),
             csv_field(&t.b),
-            opt_none(t.mw_u),
-            opt_none(t.mw_p),
-            opt_none(t.mw_p_holm),
-            opt_none(t.ks_d),
-            opt_none(t.ks_p),
-            opt_none(t.ks_p_holm),
-            t.a_dominates,
-            t.b_dominates,
-            opt_none(t.lr_chi2),
-            opt_none(t.lr_p),
-            opt_none(t.lr_p_holm),
-            opt_none(t.lr_hazard_ratio)
-        ));
+        ];
+        for r in &t.results {
+            fields.extend(r.cells().iter().map(|(_, v)| v.csv()));
+        }
+        s.push_str(&fields.join(","));
+        s.push('\n');
     }
     s
 }
@@ -96,6 +79,66 @@ pub fn csv_field(s: &str) -> String {
 pub fn fmt_target(t: f64) -> String {
     let rounded: f64 = format!("{t:.5e}").parse().unwrap_or(t);
     format!("{rounded}")
+}
+
+/// `t` with `digits` significant digits, trailing zeros dropped; in exponent form below 1e-4
+/// and from 1e6 on (`1.23457e7`).
+pub fn significant(t: f64, digits: usize) -> String {
+    if t == 0.0 || !t.is_finite() {
+        return format!("{t}");
+    }
+    let e = format!("{t:.*e}", digits.max(1) - 1);
+    if t.abs() < 1e-4 || t.abs() >= 1e6 {
+        let (m, x) = e.split_once('e').unwrap_or((&e, "0"));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            m
+        };
+        return format!("{m}e{x}");
+    }
+    let rounded: f64 = e.parse().unwrap_or(t);
+    format!("{rounded}")
+}
+
+/// The fewest significant digits (4 to 8) that keep the targets of one instance apart.
+pub fn target_digits(targets: &[f64]) -> usize {
+    (4..=8)
+        .find(|&d| {
+            let shown: Vec<String> = targets.iter().map(|&t| significant(t, d)).collect();
+            shown
+                .iter()
+                .enumerate()
+                .all(|(i, s)| shown[..i].iter().all(|o| o != s))
+        })
+        .unwrap_or(8)
+}
+
+/// A relative change in percent with two significant digits: `+1%`, `+2.5%`, `+0.38%`.
+fn percent(r: f64) -> String {
+    let p = r * 100.0;
+    let s = if p.abs() >= 10.0 {
+        format!("{p:.0}")
+    } else {
+        significant(p, 2)
+    };
+    if p >= 0.0 {
+        format!("+{s}%")
+    } else {
+        format!("{s}%")
+    }
+}
+
+/// A target RMSE for reading: `digits` significant digits ([`target_digits`] of its
+/// instance) and, when the best-known RMSE is known and the target within 10 times it, how far
+/// above it: `0.1005 (+1%)` (a noiseless instance's best-known RMSE is near 0, where a
+/// percentage means nothing).
+pub fn target_text(t: f64, best_known: Option<f64>, digits: usize) -> String {
+    let shown = significant(t, digits);
+    match best_known.filter(|b| *b > 0.0 && b.is_finite() && t / b <= 10.0) {
+        Some(b) => format!("{shown} ({})", percent(t / b - 1.0)),
+        None => shown,
+    }
 }
 
 /// Formats a number compactly for tables (`-` for none).
@@ -176,28 +219,44 @@ pub fn table(report: &StatsReport) -> String {
     } else if !sig.is_empty() {
         out.push_str("\nPairwise (CPU time; Holm-adjusted p-values; censored runs = +inf)\n");
         for t in sig {
-            let dom = if t.a_dominates {
-                format!("{} dominates", t.a)
-            } else if t.b_dominates {
-                format!("{} dominates", t.b)
-            } else {
-                "curves cross".into()
-            };
             out.push_str(&format!(
-                "  {} q={}: {} vs {}: Mann-Whitney p={}, KS p={}, log-rank p={} (HR {}), {}\n",
+                "  {} q={}: {} vs {}: {}\n",
                 t.instance,
                 t.target,
                 t.a,
                 t.b,
-                fmt_p(t.mw_p_holm),
-                fmt_p(t.ks_p_holm),
-                fmt_p(t.lr_p_holm),
-                fmt_num(t.lr_hazard_ratio),
-                dom
+                pair_text(t)
             ));
         }
     }
     out
+}
+
+/// A pair's tests in one line: each p-value test's Holm-adjusted p-value (with its effect),
+/// then each direction-only test's outcome.
+fn pair_text(t: &PairTest) -> String {
+    let mut parts = Vec::new();
+    for r in t.results.iter().filter(|r| r.test.p.is_some()) {
+        let mut s = format!("{} p={}", r.test.name, fmt_p(r.p_holm));
+        if let Some(e) = &r.test.effect {
+            s.push_str(&format!(" ({} {})", e.short, fmt_num(r.effect)));
+        }
+        parts.push(s);
+    }
+    for r in t.results.iter().filter(|r| r.test.p.is_none()) {
+        parts.push(direction_text(r, &t.a, &t.b));
+    }
+    parts.join(", ")
+}
+
+/// A direction-only test's outcome in words (`AED dominates`, `curves cross`).
+pub fn direction_text(r: &TestResult, a: &str, b: &str) -> String {
+    let [sooner, neither] = r.test.direction_words;
+    match r.direction {
+        Direction::A => format!("{a} {sooner}"),
+        Direction::B => format!("{b} {sooner}"),
+        Direction::Neither => neither.to_string(),
+    }
 }
 
 fn finals_table(report: &StatsReport, width: usize) -> String {
@@ -237,7 +296,7 @@ fn finals_table(report: &StatsReport, width: usize) -> String {
 
 /// `s` left-aligned in `width` characters. Unlike `format!("{s:<width$}")`, which panics for
 /// widths from 65,536 on, this takes any width (labels of older results are not limited).
-fn pad_right(s: &str, width: usize) -> String {
+pub fn pad_right(s: &str, width: usize) -> String {
     let fill = width.saturating_sub(s.chars().count());
     let mut out = String::with_capacity(s.len() + fill);
     out.push_str(s);

@@ -89,7 +89,8 @@ pub enum Command {
     /// RTDs, error-time curves, traces, sweeps and the best fit.
     Report(ReportArgs),
     /// Compare two results folders (before and after): a verdict per instance, configuration
-    /// and target, and an HTML page; exits 1 when B is significantly slower anywhere.
+    /// and target, and an HTML page; exits 3 when B is significantly slower anywhere (1: a
+    /// failure, 2: bad input).
     Compare(CompareArgs),
     /// Print a shell completion script (bash, zsh, fish, powershell, elvish).
     Completions(CompletionsArgs),
@@ -201,6 +202,10 @@ pub struct BenchArgs {
     /// lines), bars, plain, quiet.
     #[arg(long, value_parser = values::choice::<ProgressMode>(ProgressMode::NAMES), default_value = "auto")]
     pub progress: ProgressMode,
+    /// Rewrite bench.html from OUT/bench.json without measuring (after a change of the page's
+    /// layout).
+    #[arg(long)]
+    pub rewrite_page: bool,
 }
 
 /// `brdf-sls stress`.
@@ -222,6 +227,10 @@ pub struct StressArgs {
     /// Worker threads (default: $BRDF_SLS_THREADS, else all CPUs).
     #[arg(long, env = "BRDF_SLS_THREADS")]
     pub threads: Option<usize>,
+    /// Rewrite stress.html and plots/ from OUT/stress.json without running the checks (after a
+    /// change of the page's layout).
+    #[arg(long)]
+    pub rewrite_page: bool,
 }
 
 /// `brdf-sls gen`.

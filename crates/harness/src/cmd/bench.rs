@@ -24,6 +24,11 @@ pub fn bench(a: BenchArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join("bench"));
+    if a.rewrite_page {
+        brdf_bench::rewrite_page(&out)?;
+        say!("wrote bench.html to {} from bench.json", out.display());
+        return Ok(());
+    }
     let settings = Settings {
         seeds: a.seeds,
         cutoff: a.cutoff,

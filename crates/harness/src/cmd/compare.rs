@@ -1,5 +1,6 @@
 //! `brdf-sls compare`: before and after, as a verdict table, an HTML page and an exit status
-//! (1 when B is significantly slower anywhere, so CI can use it as a regression check).
+//! (3 when B is significantly slower anywhere, so CI can use it as a regression check and
+//! tell it from a failure, 1, or bad input, 2).
 
 use anyhow::{Context, Result};
 use brdf_analysis::compare::{Options, compare as judge, entries, table};
@@ -9,7 +10,7 @@ use super::report::{folder_of, read_folder, write_page};
 use super::{bail_input, say};
 use crate::cli::{CompareArgs, VerdictMeasure};
 
-/// B significantly slower somewhere: exit status 1 with this message.
+/// B significantly slower somewhere: exit status [`super::SLOWER_STATUS`] with this message.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct Slower(pub String);
@@ -29,7 +30,10 @@ pub fn compare(a: CompareArgs) -> Result<()> {
         );
     }
     let (fa, fb) = (read_folder(&a.a)?, read_folder(&a.b)?);
-    let (ea, eb) = (entries(&fa), entries(&fb));
+    let (ea, eb) = (
+        entries(&fa, &fa.statistics()),
+        entries(&fb, &fb.statistics()),
+    );
     let options = Options {
         alpha: a.alpha,
         min_effect: a.min_effect,

@@ -27,7 +27,8 @@ mod trial;
 mod tune;
 
 /// The `brdf-sls` program: parses the command line, runs the command and returns its exit
-/// status (0 success or a closed output pipe, 2 bad input, 1 a failure while running).
+/// status (0 success or a closed output pipe, 2 bad input, 1 a failure while running, 3
+/// `compare`'s verdict that B is significantly slower).
 pub fn main() -> std::process::ExitCode {
     use clap::Parser;
     use std::process::ExitCode;
@@ -210,13 +211,20 @@ fn is_input_error(e: &anyhow::Error) -> bool {
     })
 }
 
+/// `compare`'s verdict that B is significantly slower: its own exit status, so that a CI job
+/// tells a performance regression from an I/O failure (1) or bad input (2).
+pub const SLOWER_STATUS: u8 = 3;
+
 /// The exit status of a failed command: 0 for a closed output pipe (the reader has what it
-/// wanted), 2 for bad input, 1 for failures while running.
+/// wanted), 2 for bad input, [`SLOWER_STATUS`] for `compare`'s verdict "B is slower", 1 for
+/// failures while running.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
     if is_broken_pipe(e) {
         0
     } else if is_input_error(e) {
         2
+    } else if e.chain().any(|c| c.is::<compare::Slower>()) {
+        SLOWER_STATUS
     } else {
         1
     }

@@ -51,8 +51,28 @@ pub fn folder_of(path: &Path) -> PathBuf {
 
 /// Builds the report page of `folders` and writes it to `out` atomically.
 pub fn write_report_page(folders: &[Folder], out: &Path) -> Result<()> {
-    let page = brdf_analysis::html::report_page(folders).context("building the report page")?;
+    let analyses: Vec<_> = folders.iter().map(Folder::analysis).collect();
+    let pairs: Vec<_> = folders.iter().zip(&analyses).collect();
+    write_report_page_of(&pairs, out)
+}
+
+/// Builds the report page of folders with their analyses (computed once, e.g. by a run) and
+/// writes it to `out` atomically.
+pub fn write_report_page_of(
+    folders: &[(&Folder, &brdf_analysis::analysis::Analysis)],
+    out: &Path,
+) -> Result<()> {
+    let page = brdf_analysis::html::report_page_of(folders, &page_dir(out))
+        .context("building the report page")?;
     write_page(out, &page)
+}
+
+/// The folder a page is written into (links on it are relative to it).
+fn page_dir(out: &Path) -> PathBuf {
+    match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
 }
 
 /// Writes a page atomically (a reader never sees half of it).

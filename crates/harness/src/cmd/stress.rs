@@ -26,6 +26,9 @@ pub fn stress(a: StressArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join("stress"));
+    if a.rewrite_page {
+        return rewrite_page(&out);
+    }
     note!(
         "stress test ({}), seed {}, writing to {}",
         if a.quick { "quick" } else { "full" },
@@ -46,16 +49,8 @@ pub fn stress(a: StressArgs) -> Result<()> {
         .with_context(|| format!("writing the report to {}", out.display()))?;
     let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
     let machine = brdf_experiment::machine::MachineInfo::current(report.threads);
-    let page = brdf_analysis::html::stress_page(
-        &report,
-        &charts,
-        &machine,
-        brdf_experiment::machine::unix_now(),
-    )
-    .context("building the stress page")?;
-    let html = out.join("stress.html");
-    brdf_experiment::store::write_atomic(&html, page.as_bytes())
-        .with_context(|| format!("writing {}", html.display()))?;
+    let written = brdf_experiment::machine::unix_now();
+    write_page(&report, &charts, Some(&machine), written, &out)?;
     say!("{}", summary(&report));
     say!(
         "wrote {} and {} plots to {}",
@@ -72,6 +67,48 @@ pub fn stress(a: StressArgs) -> Result<()> {
             out.join("stress.md").display()
         );
     }
+    Ok(())
+}
+
+/// Writes stress.html of `report` with `charts` into `out`.
+fn write_page(
+    report: &StressReport,
+    charts: &[Chart],
+    machine: Option<&brdf_experiment::machine::MachineInfo>,
+    written: u64,
+    out: &Path,
+) -> Result<()> {
+    let page = brdf_analysis::html::stress_page(report, charts, machine, written)
+        .context("building the stress page")?;
+    let html = out.join("stress.html");
+    brdf_experiment::store::write_atomic(&html, page.as_bytes())
+        .with_context(|| format!("writing {}", html.display()))
+}
+
+/// `--rewrite-page`: stress.html and plots/ again from `out`/stress.json, no check run.
+fn rewrite_page(out: &Path) -> Result<()> {
+    let json = out.join("stress.json");
+    let text = std::fs::read_to_string(&json).map_err(|e| {
+        super::input_error(format!(
+            "{}: {e} (--rewrite-page reads a stress run's stress.json)",
+            json.display()
+        ))
+    })?;
+    let report = StressReport::from_json(&text)
+        .map_err(|e| super::input_error(format!("{}: {e}", json.display())))?;
+    let (plots, charts) = draw_plots(&report, &out.join("plots"))?;
+    write_page(
+        &report,
+        &charts,
+        None,
+        brdf_experiment::machine::unix_now(),
+        out,
+    )?;
+    say!(
+        "wrote stress.html and {} plots to {} from stress.json",
+        plots.len(),
+        out.display()
+    );
     Ok(())
 }
 

@@ -9,9 +9,6 @@ from typing import Any
 
 from . import _native
 
-QUANTILE_NAMES = ("q10", "q25", "q50", "q75", "q90")
-
-
 @dataclass
 class Results:
     """What :func:`read_results` returns.
@@ -25,9 +22,10 @@ class Results:
             reached_evaluations, budget_cpu_seconds, budget_evaluations).
         traces: one record per improvement of a trial's best RMSE (key, instance, config,
             trial, cpu_seconds, wall_seconds, evaluations, rmse).
-        stats: one record per (instance, config, target, measure) as in ``stats.csv``
-            (successes, trials, success_rate, q10..q90, ert, ert_sd, ert_p10, ert_p50,
-            ert_p90).
+        stats: one record per (instance, config, target, measure) with the columns of
+            ``stats.csv`` (trials, successes, success_rate, q10..q90, ert, ert_sd, ert_p10,
+            ert_p50, ert_p90, restart_p10..restart_p90, km_censoring); ``measure`` is ``cpu``
+            or ``evaluations``.
         tests, finals: the pairwise tests and final-quality rows, as records.
         header: the results file's header (spec text, machine, kernel, data hashes).
         raw: the trial records as stored (nested dicts).
@@ -105,26 +103,6 @@ def _trace_rows(rec: dict[str, Any]) -> list[dict[str, Any]]:
     ]
 
 
-def _stats_rows(cs: dict[str, Any]) -> list[dict[str, Any]]:
-    rows = []
-    for measure in ("cpu", "evaluations"):
-        m = cs[measure]
-        row = {
-            "instance": cs["instance"],
-            "config": cs["config"],
-            "target": cs["target"],
-            "measure": measure,
-            "successes": m["successes"],
-            "trials": m["trials"],
-            "success_rate": m["success_rate"],
-        }
-        row.update(zip(QUANTILE_NAMES, m["quantiles"]))
-        for k in ("ert", "ert_sd", "ert_p10", "ert_p50", "ert_p90"):
-            row[k] = m[k]
-        rows.append(row)
-    return rows
-
-
 def read_results(folder: str | os.PathLike[str]) -> Results:
     """Reads a results folder written by ``brdf-sls run`` or :func:`brdf_sls.run` (a plain or
     packed ``trials.jsonl``), with the statistics ``brdf-sls stats`` computes from it.
@@ -134,13 +112,14 @@ def read_results(folder: str | os.PathLike[str]) -> Results:
     d = _native.read_results(os.fspath(folder))
     records = d["records"]
     stats = d["stats"]
+    # The records are rendered by the library from its one analysis, like stats.csv.
     return Results(
         name=d["spec_name"],
         planned=d["planned"],
         present=d["present"],
         trials=[_trial_row(r) for r in records],
         traces=[row for r in records for row in _trace_rows(r)],
-        stats=[row for cs in stats["configs"] for row in _stats_rows(cs)],
+        stats=d["stats_rows"],
         tests=stats["tests"],
         finals=stats["finals"],
         header=d["header"],

@@ -1,4 +1,7 @@
-use super::*;
+//! Before and after: verdicts, matching, Holm over the pairs, and the table.
+
+use brdf_analysis::compare::*;
+use brdf_analysis::stats::Measure;
 use brdf_experiment::store::TrialRecord;
 
 const TARGET: f64 = 0.1;
@@ -78,6 +81,7 @@ fn entry(scale: u64) -> Entry {
         records: (0..30)
             .map(|i| trial(i, Some(scale * 1000 * (u64::from(i) + 1))))
             .collect(),
+        stats: Vec::new(),
     }
 }
 
@@ -100,8 +104,8 @@ fn a_clearly_slower_b_is_slower_and_the_reverse_faster() {
     // Medians 15000 and 60000 evaluations (the 15th of 30 successes): B's is 4 times A's.
     assert_eq!(m.a.quantiles[2], Some(15000.0));
     assert_eq!(m.median_change, Some(3.0));
-    assert!(m.p_holm.unwrap() < 1e-6, "{m:?}");
-    assert!(m.hazard_ratio.unwrap() > 1.0);
+    assert!(m.test.p_holm.unwrap() < 1e-6, "{m:?}");
+    assert!(m.test.effect.unwrap() > 1.0);
     let c = compare(&[slow], &[fast], Options::default());
     assert_eq!(verdicts(&c), vec![Verdict::Faster]);
     assert_eq!(c.slower(), 0);
@@ -113,7 +117,7 @@ fn identical_results_show_no_significant_difference() {
     assert_eq!(verdicts(&c), vec![Verdict::NoDifference]);
     let m = &c.rows[0].measures[0];
     assert_eq!(m.median_change, Some(0.0));
-    assert!(m.p.unwrap() > 0.99, "{m:?}");
+    assert!(m.test.p.unwrap() > 0.99, "{m:?}");
 }
 
 #[test]
@@ -236,7 +240,12 @@ fn holm_adjusts_over_the_pairs() {
     let ps: Vec<(f64, f64)> = c
         .rows
         .iter()
-        .map(|r| (r.measures[0].p.unwrap(), r.measures[0].p_holm.unwrap()))
+        .map(|r| {
+            (
+                r.measures[0].test.p.unwrap(),
+                r.measures[0].test.p_holm.unwrap(),
+            )
+        })
         .collect();
     // Two equal p-values: Holm multiplies the smallest by 2 and keeps the order.
     assert_eq!(ps.len(), 2);
@@ -265,4 +274,29 @@ fn the_table_has_a_line_per_pair_and_a_summary() {
         "{t}"
     );
     assert!(lines[2].contains("1 significantly slower"), "{t}");
+}
+
+/// `format!("{:<w$}")` panics from width 65,536 on; a results folder is input and may hold a
+/// label or a data hash that long, and the table pads every cell to its column's width.
+#[test]
+fn the_table_takes_cells_of_any_length() {
+    let long = "L".repeat(70_000);
+    let mut a = entry(1);
+    a.config = long.clone();
+    let mut b = entry(1);
+    b.config = long.clone();
+    let c = compare(&[a, entry(1)], &[b, entry(1)], Options::default());
+    let t = table(&c);
+    assert_eq!(t.matches(&long).count(), 1, "one row per pair");
+    let rows: Vec<&str> = t.lines().filter(|l| l.starts_with("i ")).collect();
+    assert_eq!(rows.len(), 2);
+    // Columns stay aligned: the short label is padded to the long one's width.
+    assert_eq!(
+        rows[0].find("no significant"),
+        rows[1].find("no significant")
+    );
+    let mut hashed = entry(1);
+    hashed.conditions.data_hash = Some("h".repeat(70_000));
+    let c = compare(&[entry(1)], &[hashed], Options::default());
+    assert!(table(&c).contains(&"h".repeat(70_000)));
 }
