@@ -28,8 +28,11 @@ pub(super) struct ParsedSpec {
     #[serde(default)]
     pub(super) kernel: Kernel,
     pub(super) budget: Spanned<ParsedBudget>,
-    #[serde(rename = "instance")]
+    #[serde(rename = "instance", default)]
     pub(super) instances: Vec<ParsedInstance>,
+    /// `[[suite]]` tables, each expanded into instances (see `super::suite`).
+    #[serde(rename = "suite", default)]
+    pub(super) suites: Vec<Spanned<super::suite::ParsedSuite>>,
     #[serde(rename = "algorithm")]
     pub(super) algorithms: Vec<Spanned<toml::Table>>,
     #[serde(default)]
@@ -56,6 +59,9 @@ pub(super) struct ParsedInstance {
     pub(super) targets: Spanned<Vec<toml::Value>>,
     pub(super) synthetic: Option<ParsedSynthetic>,
     pub(super) file: Option<Spanned<FileSpec>>,
+    /// A material of a named suite (see `super::suite`).
+    #[serde(default)]
+    pub(super) suite: Option<Spanned<super::suite::ParsedSuiteRef>>,
     #[serde(default)]
     pub(super) model: Option<Spanned<ParsedModel>>,
 }
@@ -79,7 +85,7 @@ fn default_instance_seed() -> u64 {
     1
 }
 
-#[derive(Deserialize, Default)]
+#[derive(Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ParsedModel {
     pub(super) family: Option<Spanned<String>>,

@@ -10,17 +10,31 @@ use brdf_model::{DataSet, Evaluator, FilterReport, Params};
 use super::{input_error, note};
 use crate::cli::DataArgs;
 
-/// Reads and validates a spec file.
-pub fn load_spec(path: &Path) -> Result<Spec> {
-    Ok(Spec::from_file(path)?)
+/// The suite a spec argument names (`suite:NAME`), if it does.
+fn suite_name(path: &Path) -> Option<&str> {
+    path.to_str()?
+        .strip_prefix(brdf_experiment::spec::SUITE_PREFIX)
 }
 
-/// `runs/<spec file stem>/`, or `runs/default/` for the built-in experiment.
+/// Reads and validates a spec file, or builds a suite's built-in experiment for `suite:NAME`
+/// (an unknown name is an error listing the suites).
+pub fn load_spec(path: &Path) -> Result<Spec> {
+    match suite_name(path) {
+        Some(name) => Ok(Spec::suite_experiment(name)?),
+        None => Ok(Spec::from_file(path)?),
+    }
+}
+
+/// `runs/<spec file stem>/`, `runs/suite-NAME/` for `suite:NAME`, or `runs/default/` for the
+/// built-in experiment.
 pub fn default_out(spec: Option<&Path>) -> PathBuf {
-    let stem = spec
-        .and_then(|p| p.file_stem())
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "default".into());
+    let stem = match spec.and_then(suite_name) {
+        Some(name) => format!("suite-{name}"),
+        None => spec
+            .and_then(|p| p.file_stem())
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "default".into()),
+    };
     PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem)
 }
 
