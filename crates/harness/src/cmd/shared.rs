@@ -89,3 +89,17 @@ pub fn stored_spec(
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_out_names_suites_and_files() {
+        let runs = PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR);
+        let out = |p: &str| default_out(Some(Path::new(p)));
+        assert_eq!(out("suite:ngan-ward"), runs.join("suite-ngan-ward"));
+        assert_eq!(out("experiments/fig16.toml"), runs.join("fig16"));
+        assert_eq!(default_out(None), runs.join("default"));
+    }
+}
