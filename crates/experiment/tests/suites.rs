@@ -343,6 +343,11 @@ fn bad_suite_keys_name_the_file_line_and_key() {
             &["unknown key `count`"],
         ),
         (
+            suite_spec("suite = \"ngan-ward\"\nprefix = \"a/\""),
+            "suites.toml:7:",
+            &["[[suite]] 1: `prefix` must contain no '/'"],
+        ),
+        (
             suite_spec("suite = \"ngan-ward\"\nmaterial = \"steel\""),
             "line 10",
             &["unknown field `material`", "`materials`", "`prefix`"],

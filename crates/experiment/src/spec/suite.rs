@@ -270,6 +270,9 @@ pub(super) fn expand(
             Some(v) => selection(v.get_ref())
                 .map_err(|m| cx.invalid(mline, format!("{at}: `materials{m}")))?,
         };
+        if t.prefix.as_deref().is_some_and(|p| p.contains('/')) {
+            return Err(cx.invalid(tline, format!("{at}: `prefix` must contain no '/'")));
+        }
         let materials = suite
             .select(&selection, channel)
             .map_err(|e| cx.invalid(mline, format!("{at}: `materials`: {e}")))?;
