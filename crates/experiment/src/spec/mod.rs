@@ -587,7 +587,8 @@ impl Spec {
         let budget = validate::budget(&cx, parsed.budget)?;
         validate::counts(&cx, parsed.trials, parsed.threads)?;
         let mut raw_instances = parsed.instances;
-        raw_instances.extend(suite::expand(&cx, parsed.suites)?);
+        raw_instances
+            .extend(suite::expand(text, parsed.suites).map_err(|(l, m)| cx.invalid(l, m))?);
         let instances = validate::instances(&cx, raw_instances, base_dir)?;
         let configurations = sweep::configurations(&cx, parsed.algorithms)?;
         validate::options(&cx, &parsed.plots, &parsed.stats)?;

@@ -12,12 +12,11 @@ use std::path::Path;
 use brdf_io::Channel;
 use brdf_model::{DataSet, FamilyRef, Params};
 use brdf_published::suite::{self as published, Noise, Sampling, Selection, SuiteError};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use toml::Spanned;
 
 use super::limits::MAX_SAMPLES;
-use super::parsed::{ParsedInstance, ParsedModel};
-use super::validate::Ctx;
+use super::parsed::{ParsedInstance, ParsedSuite, ParsedSuiteRef, line_of};
 use super::{Source, Spec, SpecError};
 
 /// What a spec path names when it is a suite's built-in experiment: `suite:NAME`.
@@ -66,68 +65,40 @@ impl SuiteSource {
     }
 }
 
-/// The draw of a suite instance as written: `[instance.suite]`, whose keys `[[suite]]` shares.
-#[derive(Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ParsedSuiteRef {
-    suite: Spanned<String>,
-    material: Spanned<String>,
-    #[serde(default)]
-    channel: Option<Channel>,
-    #[serde(default)]
-    sampling: Option<Spanned<String>>,
-    #[serde(default)]
-    samples: Option<Spanned<usize>>,
-    #[serde(default)]
-    noise: Option<Spanned<f64>>,
-    #[serde(default)]
-    sigma: Option<Spanned<f64>>,
-    #[serde(default)]
-    seed: Option<u64>,
-}
+/// An error at a line of the spec, `(line, message)`; the caller, who knows the file, makes it
+/// a [`SpecError`].
+pub(super) type Located = (Option<usize>, String);
 
-/// A top-level `[[suite]]` table as written.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ParsedSuite {
-    suite: Spanned<String>,
-    #[serde(default)]
-    materials: Option<Spanned<toml::Value>>,
-    #[serde(default)]
-    prefix: Option<String>,
-    targets: Spanned<Vec<toml::Value>>,
-    #[serde(default)]
-    channel: Option<Channel>,
-    #[serde(default)]
-    sampling: Option<Spanned<String>>,
-    #[serde(default)]
-    samples: Option<Spanned<usize>>,
-    #[serde(default)]
-    noise: Option<Spanned<f64>>,
-    #[serde(default)]
-    sigma: Option<Spanned<f64>>,
-    #[serde(default)]
-    seed: Option<u64>,
-    #[serde(default)]
-    model: Option<Spanned<ParsedModel>>,
+/// The spec text, for the lines errors point at.
+struct Cx<'a>(&'a str);
+
+impl Cx<'_> {
+    fn line<T>(&self, v: &Spanned<T>) -> Option<usize> {
+        Some(line_of(self.0, v.span().start))
+    }
+
+    fn invalid(&self, line: Option<usize>, message: String) -> Located {
+        (line, message)
+    }
 }
 
 /// The suite called `name`, or an error at `line` naming `key` and listing the suites.
 fn find(
-    cx: &Ctx<'_>,
+    cx: &Cx<'_>,
     line: Option<usize>,
     key: &str,
     name: &str,
-) -> Result<&'static published::Suite, SpecError> {
+) -> Result<&'static published::Suite, Located> {
     published::suite(name).map_err(|e| cx.invalid(line, format!("{key}: {e}")))
 }
 
 /// The source of an `[instance.suite]` table: the material's parameters and the draw, checked.
 pub(super) fn source(
-    cx: &Ctx<'_>,
+    text: &str,
     name: &str,
     raw: Spanned<ParsedSuiteRef>,
-) -> Result<Source, SpecError> {
+) -> Result<Source, Located> {
+    let cx = &Cx(text);
     let line = cx.line(&raw);
     let r = raw.into_inner();
     let at = |key: &str| format!("instance `{name}`: `suite.{key}`");
@@ -197,13 +168,14 @@ pub(super) fn source(
 /// when the model is of the material's family; a bound the spec gives itself must admit the
 /// material. Nothing happens for other sources or families.
 pub(super) fn widen(
-    cx: &Ctx<'_>,
+    text: &str,
     name: &str,
     line: Option<usize>,
     source: &Source,
     family: &FamilyRef,
     bounds: &mut BTreeMap<String, [f64; 2]>,
-) -> Result<(), SpecError> {
+) -> Result<(), Located> {
+    let cx = &Cx(text);
     let Source::Synthetic {
         params,
         suite: Some(s),
@@ -249,9 +221,10 @@ pub(super) fn widen(
 /// Every `[[suite]]` table expanded into `[[instance]]`s, one per selected material (named
 /// `prefix` + material), sharing the table's targets, draw and model.
 pub(super) fn expand(
-    cx: &Ctx<'_>,
+    text: &str,
     raw: Vec<Spanned<ParsedSuite>>,
-) -> Result<Vec<ParsedInstance>, SpecError> {
+) -> Result<Vec<ParsedInstance>, Located> {
+    let cx = &Cx(text);
     let mut out = Vec::new();
     for (k, table) in raw.into_iter().enumerate() {
         let tline = cx.line(&table);

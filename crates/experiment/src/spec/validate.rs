@@ -130,7 +130,9 @@ fn instance(cx: &Ctx<'_>, ri: ParsedInstance, base_dir: &Path) -> Result<Instanc
     let source = match (ri.synthetic, ri.file, ri.suite) {
         (Some(s), None, None) => synthetic(cx, &name, line, s)?,
         (None, Some(f), None) => file(cx, &name, f, base_dir)?,
-        (None, None, Some(s)) => super::suite::source(cx, &name, s)?,
+        (None, None, Some(s)) => {
+            super::suite::source(cx.text, &name, s).map_err(|(l, m)| cx.invalid(l, m))?
+        }
         _ => {
             return Err(cx.invalid(
                 line,
@@ -381,14 +383,9 @@ fn model(
             }
         }
     }
-    super::suite::widen(
-        cx,
-        name,
-        bounds_line.or(mline).or(line),
-        source,
-        &family,
-        &mut bounds,
-    )?;
+    let at = bounds_line.or(mline).or(line);
+    super::suite::widen(cx.text, name, at, source, &family, &mut bounds)
+        .map_err(|(l, m)| cx.invalid(l, m))?;
     let fixed = rm.fixed.map(Spanned::into_inner).unwrap_or_default();
     if let Some((k, v)) = fixed.iter().find(|(_, v)| !v.is_finite()) {
         return Err(cx.invalid(
