@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The out-of-tree algorithm example (examples/custom-algorithm/, not a workspace member): lints
 # and builds it from its own manifest and lock file, runs its tiny spec into a temporary folder,
-# checks that trials.jsonl holds the custom kind's trials and that the statistics name it,
+# checks that trials.jsonl holds the custom kind's trials (and names the program and the kind's
+# schema) and that the statistics name it,
 # runs the spec again and checks that it resumed every trial and ran none, then runs it as two
 # shards, merges them and writes their statistics and report with the same program. Called by .ci/run.
 set -euo pipefail
@@ -38,7 +39,11 @@ planned=$(awk '/^trials *=/ { print $3 }' examples/custom-algorithm/tiny.toml)
     || fail "trials.jsonl holds $custom COORDINATE-SEARCH trials, expected $planned"
 grep -q 'COORDINATE-SEARCH' "$out/tiny/stats.csv" || fail "stats.csv does not name COORDINATE-SEARCH"
 grep -q 'COORDINATE-SEARCH' "$out/tiny/table.txt" || fail "table.txt does not name COORDINATE-SEARCH"
-echo "trials.jsonl holds $custom COORDINATE-SEARCH trials; the statistics name it"
+head -1 "$trials" | grep -q '"program":"custom-algorithm 0.1.0"' \
+    || fail "the results header does not name the program that wrote it"
+head -1 "$trials" | grep -q '"schemas":{"coordinate-search":"[0-9a-f]\{16\}"}' \
+    || fail "the results header does not record the coordinate-search schema hash"
+echo "trials.jsonl holds $custom COORDINATE-SEARCH trials, names its program and the kind's schema; the statistics name it"
 
 section "running it again resumes"
 "$bin" run examples/custom-algorithm/tiny.toml --out "$out/tiny" --threads 2 2>&1 | tee "$out/second.txt"

@@ -289,6 +289,7 @@ mod tests {
                     })
                     .collect(),
                 counters: vec![],
+                failure: None,
             },
         }
     }

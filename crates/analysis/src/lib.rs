@@ -13,6 +13,9 @@
 //! - [`html`]: self-contained HTML pages: the report of results folders, a comparison, the
 //!   stress page, and the blocks the bench page is built from.
 //! - [`stress_charts`]: the charts of a stress report (files and page alike).
+//! - [`pipeline`]: one run of an experiment as a library call (prepare, execute with the
+//!   caller's executor, statistics, plots and the report page), for `brdf-sls run` and
+//!   `brdf_sls.run`.
 //! - [`compare`]: before and after: matched results of two folders judged faster, slower, not
 //!   significantly different or not comparable (and why).
 #![warn(missing_docs)]
@@ -22,6 +25,7 @@ pub mod export;
 pub mod figures;
 pub mod folder;
 pub mod html;
+pub mod pipeline;
 pub mod report;
 pub mod stats;
 pub mod stress_charts;

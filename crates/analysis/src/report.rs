@@ -81,12 +81,14 @@ pub fn stored_spec(contents: &Contents, dir: &Path) -> Result<Spec, StoredSpecEr
     if text.is_empty() {
         return Err(StoredSpecError::NoSpecText(dir.to_path_buf()));
     }
-    Ok(Spec::parse(
+    let mut spec = Spec::parse(
         text,
         &format!("{} (stored spec)", dir.display()),
         &contents.header.experiment,
         dir,
-    )?)
+    )?;
+    spec.adopt_stored_settings(&contents.header.spec);
+    Ok(spec)
 }
 
 /// The records that belong to `spec`'s plan (its instances, configurations and trial count).

@@ -221,6 +221,7 @@ fn fixed_records(spec: &Spec) -> Vec<brdf_experiment::store::TrialRecord> {
                     best_x: vec![0.1; 6],
                     trace: vec![sls::TracePoint { at, rmse }],
                     counters: Vec::new(),
+                    failure: None,
                 },
             }
         })

@@ -509,6 +509,7 @@ mod tests {
                 best_x: vec![],
                 trace: vec![],
                 counters: vec![],
+                failure: None,
             },
         };
         assert!(below_best_known(&s, &[record(0.2), record(0.3)]).is_empty());

@@ -1,13 +1,13 @@
 //! `kind = "python"`: the configuration of a search algorithm written in Python, defined once
 //! for the Python package, which runs it (`brdf_sls`, crates/py), and for the command line,
-//! which reads, checks and summarises specs and results that use it but cannot call Python
-//! (`brdf-sls run` hands such specs to `python -m brdf_sls run`).
+//! which reads, checks and summarises specs and results that use it (its schema) and runs its
+//! trials in worker processes of the Python package.
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
-use sls::registry::Algorithm;
-use sls::{ConfigError, Search, Stop};
+use sls::ConfigError;
+use sls::registry::Schema;
 
 /// The kind's tag.
 pub const KIND: &str = "python";
@@ -67,31 +67,22 @@ pub fn is_identifier(s: &str) -> bool {
         && chars.all(|c| c.is_alphanumeric() || c == '_')
 }
 
-/// The kind as the commands that only read specs and results register it: parsed, checked
-/// for form, stored and summarised like any kind, never run.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(transparent)]
-pub struct ReadOnlyPython(pub PythonEntry);
-
-impl Algorithm for ReadOnlyPython {
+/// The kind's schema: what the command line registers ([`register_schema`]) to read, check,
+/// store and summarise specs and results that name it; the Python package registers the same
+/// settings with a runner.
+impl Schema for PythonEntry {
     const KIND: &'static str = KIND;
 
     fn validate(&self) -> Result<(), ConfigError> {
-        self.0.check_form()
-    }
-
-    /// Never called: only commands that run no trial register this type. Ends the trial at
-    /// once, unstored (interrupted), should one ever run.
-    fn run(&self, _search: &mut dyn Search) -> Result<(), Stop> {
-        Err(Stop::Interrupted)
+        self.check_form()
     }
 }
 
-/// Registers [`ReadOnlyPython`] unless the kind is registered already (by the Python package,
+/// Registers the kind's schema unless the kind is registered already (by the Python package,
 /// which runs it).
-pub fn register_read_only() {
+pub fn register_schema() {
     // The only possible error is the kind being taken, which is what this asks for.
-    let _ = sls::registry::register::<ReadOnlyPython>();
+    let _ = sls::registry::register_schema::<PythonEntry>();
 }
 
 #[cfg(test)]
@@ -125,12 +116,13 @@ mod tests {
     }
 
     #[test]
-    fn the_read_only_kind_reads_and_writes_the_packages_records() {
-        register_read_only();
+    fn the_schema_reads_and_writes_the_packages_records() {
+        register_schema();
         let text = r#"{"kind":"python","entry":"algos.walk:search","step":0.1,"restarts":true}"#;
         let config: AlgorithmConfig = serde_json::from_str(text).unwrap();
         assert_eq!(config.kind_name(), "python");
         assert_eq!(config.validate(), Ok(()));
+        assert!(!config.can_run(), "the schema alone runs nothing");
         // The settings come back sorted by name, as the package writes them.
         let again = serde_json::to_string(&config).unwrap();
         assert_eq!(

@@ -35,16 +35,6 @@ pub trait Executor: Sync {
     fn provenance(&self) -> Provenance {
         Provenance::default()
     }
-
-    /// Whether `trial` is not to be run, or its result (which must then be
-    /// [`StopReason::Interrupted`]) not stored, because its configuration failed: an
-    /// algorithm written in Python that raised, say, whose executor keeps the message. The
-    /// run goes on with the other configurations and counts such trials as missing. `false`
-    /// by default.
-    fn skip(&self, trial: &PlannedTrial) -> bool {
-        let _ = trial;
-        false
-    }
 }
 
 /// The evaluation kernel and data hashes a run records with its results.
@@ -56,6 +46,27 @@ pub struct Provenance {
     pub solver_kernel: String,
     /// Instance name -> [`crate::seed::data_hash`] of its data.
     pub data_hashes: BTreeMap<String, String>,
+    /// The program that runs the trials, when it named itself ([`set_program`]).
+    pub program: String,
+    /// Kind -> [`sls::registry::schema_hash`], for the spec's kinds that are not built in.
+    pub schemas: BTreeMap<String, String>,
+}
+
+static PROGRAM: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+
+/// Names the program that runs trials in this process (`custom-algorithm 0.1.0`), recorded
+/// with results ([`Provenance::program`]); the first call wins.
+pub fn set_program(name: &str, version: &str) {
+    let _ = PROGRAM.set(format!("{name} {version}").trim().to_string());
+}
+
+/// The schema hash of each kind of `spec` that is not built in.
+pub fn schemas_of(spec: &Spec) -> BTreeMap<String, String> {
+    let kinds = spec.configurations.iter().map(|c| c.algorithm.kind_name());
+    kinds
+        .filter(|k| !sls::registry::is_builtin(k))
+        .filter_map(|k| Some((k.to_string(), sls::registry::schema_hash(k)?)))
+        .collect()
 }
 
 /// The real executor: sls algorithms on brdf-model objectives built once per instance.
@@ -108,6 +119,8 @@ impl SlsExecutor {
                 .zip(built)
                 .map(|(i, b)| (i.name.clone(), crate::seed::data_hash(&b.data)))
                 .collect(),
+            program: PROGRAM.get().cloned().unwrap_or_default(),
+            schemas: schemas_of(spec),
         };
         Ok(SlsExecutor {
             objectives,
@@ -251,6 +264,19 @@ pub struct RunOutcome {
     pub wall_seconds: f64,
     /// This session's machine.
     pub machine: MachineInfo,
+    /// Configurations whose algorithm failed ([`StopReason::Failed`]) in this session, the
+    /// first failure of each: none of their failed trials is stored and their remaining
+    /// trials were skipped (counted in `missing`), while the others ran to the end.
+    pub failures: Vec<ConfigFailure>,
+}
+
+/// The first failure of a configuration's algorithm in a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConfigFailure {
+    /// Index into [`Spec::configurations`].
+    pub config: usize,
+    /// `configuration `LABEL` failed in trial KEY (seed S): MESSAGE`.
+    pub message: String,
 }
 
 /// The results header for `spec` on this machine, with the executor's provenance.
@@ -269,6 +295,8 @@ pub fn header_for(spec: &Spec, threads: usize, provenance: &Provenance) -> Heade
         data_hashes: provenance.data_hashes.clone(),
         shard: None,
         best_known: spec.best_known(),
+        program: provenance.program.clone(),
+        schemas: provenance.schemas.clone(),
     }
 }
 
@@ -375,6 +403,8 @@ pub fn run_locked<E: Executor>(
             message: e.to_string(),
         })?;
     let fresh_records = Mutex::new(Vec::with_capacity(pending.len()));
+    let failures: Mutex<Vec<ConfigFailure>> = Mutex::new(Vec::new());
+    let failed = |c: usize| lock(&failures).iter().any(|f| f.config == c);
     let skipped = AtomicUsize::new(0);
     let started = Instant::now();
     let store = &opened.store;
@@ -384,7 +414,7 @@ pub fn run_locked<E: Executor>(
             // One trial per task: trials are long and uneven, so no batching.
             .with_max_len(1)
             .try_for_each(|t| {
-                if executor.skip(t) {
+                if failed(t.config) {
                     skipped.fetch_add(1, Ordering::Relaxed);
                     return Ok(());
                 }
@@ -402,13 +432,27 @@ pub fn run_locked<E: Executor>(
                         .or_else(|| p.downcast_ref::<String>().cloned())
                         .unwrap_or_else(|| "unknown panic".into()),
                 })?;
+                // A failed trial fails its configuration: none of its trials is run or stored
+                // from now on (trials in flight may fail too: the first says it).
+                if result.stop == StopReason::Failed {
+                    let mut all = lock(&failures);
+                    if !all.iter().any(|f| f.config == t.config) {
+                        let label = &spec.configurations[t.config].label;
+                        let why = result.failure.as_deref().unwrap_or("failed");
+                        all.push(ConfigFailure {
+                            config: t.config,
+                            message: format!(
+                                "configuration `{label}` failed in trial {} (seed {}): {why}",
+                                t.key, t.seed
+                            ),
+                        });
+                    }
+                    skipped.fetch_add(1, Ordering::Relaxed);
+                    return Ok(());
+                }
                 // An interrupted trial is incomplete: storing it would record a censored run
                 // that never happened.
                 if result.stop == StopReason::Interrupted {
-                    if executor.skip(t) {
-                        skipped.fetch_add(1, Ordering::Relaxed);
-                        return Ok(());
-                    }
                     return Err(RunError::Interrupted);
                 }
                 let record = TrialRecord {
@@ -423,10 +467,7 @@ pub fn run_locked<E: Executor>(
                 };
                 store.append(&record).map_err(RunError::Store)?;
                 progress.trial_done(t.config, record.result.reached());
-                fresh_records
-                    .lock()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .push(record);
+                lock(&fresh_records).push(record);
                 Ok(())
             })
     });
@@ -459,5 +500,10 @@ pub fn run_locked<E: Executor>(
         notes: opened.notes,
         wall_seconds,
         machine,
+        failures: failures.into_inner().unwrap_or_else(|e| e.into_inner()),
     })
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
 }

@@ -7,7 +7,7 @@ use brdf_experiment::spec::{Source, Spec};
 #[test]
 fn shipped_experiments_are_valid() {
     // experiments/baselines.toml has algorithms written in Python: read, as `check` reads them.
-    brdf_experiment::python_kind::register_read_only();
+    brdf_experiment::python_kind::register_schema();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments");
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {

@@ -169,6 +169,7 @@ impl brdf_experiment::run::Executor for Fake {
             best_x: vec![secs],
             trace: vec![sls::TracePoint { at, rmse: target }],
             counters: Vec::new(),
+            failure: None,
         }
     }
 }
@@ -191,11 +192,9 @@ fn a_panicking_trial_stops_the_run_and_keeps_finished_trials() {
     assert_eq!((r.resumed, r.new_trials), (6, 6));
 }
 
-/// [`Fake`] whose configuration 1 fails at its first trial (ends it as interrupted, as a
-/// failing Python algorithm does) and is skipped from then on.
-struct FailingConfig {
-    failed: std::sync::atomic::AtomicBool,
-}
+/// [`Fake`] whose configuration 1 fails at every trial ([`sls::StopReason::Failed`], as an
+/// algorithm that calls `Search::fail`): the runner skips it from the first failure on.
+struct FailingConfig;
 
 impl brdf_experiment::run::Executor for FailingConfig {
     fn run(
@@ -206,15 +205,10 @@ impl brdf_experiment::run::Executor for FailingConfig {
     ) -> sls::TrialResult {
         let mut result = Fake { panic_on: None }.run(t, target, b);
         if t.config == 1 {
-            self.failed
-                .store(true, std::sync::atomic::Ordering::Relaxed);
-            result.stop = sls::StopReason::Interrupted;
+            result.stop = sls::StopReason::Failed;
+            result.failure = Some(format!("bad luck in {}", t.key));
         }
         result
-    }
-
-    fn skip(&self, t: &brdf_experiment::spec::PlannedTrial) -> bool {
-        t.config == 1 && self.failed.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 
@@ -223,14 +217,22 @@ fn a_failed_configuration_is_skipped_while_the_others_run() {
     let dir = tempfile::tempdir().unwrap();
     let s = spec(TINY, dir.path());
     let out = dir.path().join("r");
-    let failing = FailingConfig {
-        failed: std::sync::atomic::AtomicBool::new(false),
-    };
-    let r = run_experiment(&s, &out, &options(2), &failing).unwrap();
+    let r = run_experiment(&s, &out, &options(2), &FailingConfig).unwrap();
     // Every trial of the other two configurations ran and was stored; none of configuration 1.
     assert_eq!((r.new_trials, r.missing), (8, 4));
     let label = &s.configurations[1].label;
     assert!(r.records.iter().all(|rec| &rec.config != label));
+    // One failure for the configuration, naming it, its trial, seed and message.
+    assert_eq!(r.failures.len(), 1, "{:?}", r.failures);
+    let f = &r.failures[0];
+    assert_eq!(f.config, 1);
+    let want = format!("configuration `{label}` failed in trial ");
+    assert!(f.message.starts_with(&want), "{}", f.message);
+    assert!(
+        f.message.contains("(seed ") && f.message.contains("bad luck in"),
+        "{}",
+        f.message
+    );
     assert_eq!(read_results(&out).unwrap().records.len(), 8);
     // Fixed, the run resumes with the skipped configuration only.
     let r = run_experiment(&s, &out, &options(2), &Fake { panic_on: None }).unwrap();

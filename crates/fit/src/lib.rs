@@ -235,6 +235,9 @@ pub fn fit(
     if result.stop == StopReason::Interrupted {
         return Err(FitError::Interrupted);
     }
+    if let Some(why) = &result.failure {
+        return Err(input(why.clone()));
+    }
     if result.best_x.is_empty() || !result.best_rmse.is_finite() {
         return Err(no_candidate(&objective, &result, request.cpu_seconds));
     }

@@ -27,3 +27,19 @@ mod cmd;
 pub fn cli_main() -> std::process::ExitCode {
     cmd::main()
 }
+
+/// [`cli_main`] for a program of its own, which names itself: `name` and `version` (its
+/// crate's, `env!("CARGO_PKG_NAME")` and `env!("CARGO_PKG_VERSION")`) are recorded with the
+/// results it writes, beside a hash of each custom kind's settings schema, so that a run
+/// resumed after a change of the program says so.
+///
+/// ```no_run
+/// fn main() -> std::process::ExitCode {
+///     // sls::registry::register::<MyAlgorithm>().expect("a kind of its own");
+///     harness::cli_main_as(env!("CARGO_PKG_NAME"), env!("CARGO_PKG_VERSION"))
+/// }
+/// ```
+pub fn cli_main_as(name: &str, version: &str) -> std::process::ExitCode {
+    brdf_experiment::run::set_program(name, version);
+    cmd::main()
+}

@@ -13,12 +13,13 @@
 //! [`BudgetExhausted`] (a `BaseException`, so `except Exception` in the algorithm does not
 //! swallow it) and sets `problem.stopped`; every later call raises again. One that loops
 //! without calling the problem past its CPU budget gets it from [`crate::watchdog`] and is
-//! recorded as cut at its CPU budget all the same. An algorithm that fails (raises, passes a
-//! point outside the box, returns something) ends its trial with
-//! [`sls::Stop::Interrupted`], which the harness never stores, and leaves the message for
-//! [`take_failure`] on the trial's thread.
+//! recorded as cut at its CPU budget all the same (the watchdog reads the budget from
+//! [`Search::budget`]). An algorithm that fails (raises, passes a point outside the box,
+//! returns something) ends its trial with [`Search::fail`] and its message, which the harness
+//! reports, naming the configuration; it stores no failed trial. When the run is interrupted
+//! (Ctrl-C) the watchdog raises `KeyboardInterrupt` in the algorithm's thread, so that one that
+//! never calls its problem stops too; the trial ends as interrupted.
 
-use std::cell::Cell;
 use std::ptr::NonNull;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -33,7 +34,7 @@ use serde::{Deserialize, Serialize};
 use sls::registry::Algorithm;
 use sls::{ConfigError, DescentLimits, Rows, Search, Stop};
 
-use crate::support::BudgetExhausted;
+use crate::exceptions::BudgetExhausted;
 
 /// An algorithm written in Python: `[[algorithm]] kind = "python"`, `entry =
 /// "package.module:function"`, and any other keys, which are passed to the function as keyword
@@ -59,41 +60,11 @@ impl Algorithm for PythonAlgorithm {
     }
 
     fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
-        FAILURE.take();
         let outcome = Python::attach(|py| self.run_in_python(py, search));
         outcome.unwrap_or_else(|message| {
-            FAILURE.set(Some(format!("python `{}` {message}", self.0.entry)));
-            Err(Stop::Interrupted)
+            Err(search.fail(format!("python `{}` {message}", self.0.entry)))
         })
     }
-}
-
-thread_local! {
-    /// Why the last Python algorithm on this thread failed; taken by the executor.
-    static FAILURE: Cell<Option<String>> = const { Cell::new(None) };
-    /// The CPU budget of the trial running on this thread, for the watchdog: `run` sees only
-    /// the trial's `Search`, which does not tell it.
-    static CPU_CUTOFF: Cell<Option<f64>> = const { Cell::new(None) };
-}
-
-/// Runs `f` (which runs trials on this thread) with `cpu_seconds` as the CPU budget the
-/// watchdog enforces on Python algorithms that stop calling their problem (see
-/// [`crate::watchdog`]); without it, only the problem's methods notice the cutoff.
-pub fn with_cpu_cutoff<T>(cpu_seconds: Option<f64>, f: impl FnOnce() -> T) -> T {
-    struct Restore(Option<f64>);
-    impl Drop for Restore {
-        fn drop(&mut self) {
-            CPU_CUTOFF.set(self.0);
-        }
-    }
-    let _restore = Restore(CPU_CUTOFF.replace(cpu_seconds));
-    f()
-}
-
-/// The message of the Python algorithm that failed last on this thread (its trial ended with
-/// [`Stop::Interrupted`]), if any; clears it.
-pub fn take_failure() -> Option<String> {
-    FAILURE.take()
 }
 
 /// Registers `kind = "python"`; called when the extension module loads (a second load in the
@@ -130,13 +101,23 @@ impl PythonAlgorithm {
             py,
             problem: problem.clone_ref(py),
         };
-        let mut watch = CPU_CUTOFF.get().and_then(crate::watchdog::Watch::start);
+        let cpu_left = search.budget().cpu_seconds_left();
+        let mut watch = crate::watchdog::Watch::start(cpu_left);
         let returned = function.call(py, (problem.clone_ref(py),), Some(&kwargs));
         // Before any other bytecode runs on this thread (see crate::watchdog).
-        let fired = watch.as_mut().map_or(0, crate::watchdog::Watch::finish);
+        let fired = watch
+            .as_mut()
+            .map_or_else(Default::default, crate::watchdog::Watch::finish);
         let p = problem.borrow(py);
+        if fired.interrupts > 0
+            || matches!(&returned, Err(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py))
+        {
+            // The run was interrupted (Ctrl-C): the trial is incomplete, never stored.
+            drop(live);
+            return Ok(Err(Stop::Interrupted));
+        }
         let raised_stop = matches!(&returned, Err(e) if e.is_instance_of::<BudgetExhausted>(py));
-        if lock(&p.stop).is_none() && (fired > 0 || raised_stop) {
+        if lock(&p.stop).is_none() && (fired.budget > 0 || raised_stop) {
             // The watchdog's BudgetExhausted came from no problem method, so no stop is
             // recorded: read the trial's clock, which records the CPU-budget stop as a method
             // would have (the watchdog raises only after the budget is spent).
@@ -206,6 +187,21 @@ fn describe(py: Python<'_>, e: &PyErr) -> String {
         Some(format!(" (at {file}:{line} in {name})"))
     });
     head + &frame.unwrap_or_default()
+}
+
+/// ` (at FILE:LINE in FUNCTION)`: the Python code calling into the problem now (the frame on
+/// top of the interpreter's stack: a method of `Problem` pushes none).
+fn caller(py: Python<'_>) -> Option<String> {
+    let frame = py
+        .import("sys")
+        .ok()?
+        .call_method1("_getframe", (0,))
+        .ok()?;
+    let code = frame.getattr("f_code").ok()?;
+    let file: String = code.getattr("co_filename").ok()?.extract().ok()?;
+    let name: String = code.getattr("co_name").ok()?.extract().ok()?;
+    let line: i64 = frame.getattr("f_lineno").ok()?.extract().ok()?;
+    Some(format!(" (at {file}:{line} in {name})"))
 }
 
 fn repr(v: &Bound<'_, PyAny>) -> String {
@@ -296,9 +292,11 @@ impl Problem {
         ))
     }
 
-    /// A ValueError that also fails the trial (the algorithm cannot catch its way past it).
+    /// A ValueError that also fails the trial (the algorithm cannot catch its way past it);
+    /// the failure names the Python file and line of the call.
     fn bad(&self, message: String) -> PyErr {
-        lock(&self.failure).get_or_insert_with(|| message.clone());
+        let at = Python::attach(caller).unwrap_or_default();
+        lock(&self.failure).get_or_insert_with(|| format!("{message}{at}"));
         PyValueError::new_err(message)
     }
 
@@ -351,6 +349,7 @@ fn stop_name(stop: Stop) -> &'static str {
         Stop::CpuBudget => "CPU-time budget spent",
         Stop::EvaluationBudget => "evaluation budget spent",
         Stop::Interrupted => "interrupted",
+        Stop::Failed => "failed",
     }
 }
 

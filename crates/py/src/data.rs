@@ -136,7 +136,10 @@ impl PyDataSet {
         let fs = FileSpec {
             path,
             format: format
-                .map(|f| f.parse::<FormatName>().map_err(|e| input_err(format!("format: {e}"))))
+                .map(|f| {
+                    f.parse::<FormatName>()
+                        .map_err(|e| input_err(format!("format: {e}")))
+                })
                 .transpose()?,
             wavelength,
             channel: channel

@@ -1,58 +1,53 @@
 //! `run` (an experiment spec, as `brdf-sls run`) and `read_results` (a results folder as
 //! records for pandas).
 
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 use anyhow::Context;
+use brdf_analysis::pipeline::{Finished, Request};
 use brdf_experiment::progress::ProgressMode;
-use brdf_experiment::run::{
-    Executor, Provenance, RunError, RunOptions, SlsExecutor, default_threads, run_experiment,
-};
-use brdf_experiment::spec::{PlannedTrial, Spec};
+use brdf_experiment::run::{RunError, RunOptions, default_threads};
+use brdf_experiment::shard::Shard;
+use brdf_experiment::spec::Spec;
 use brdf_experiment::store::{StoreError, read_results as read_store};
-use brdf_model::Kernel;
+use brdf_workers::pool::{PoolError, Routed, RoutedError, WorkerCommand};
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sls::{Budget, TrialResult};
 
 use crate::support::{chain, input_err, interruptible, run_err, to_python};
 
-/// Options of [`run`] besides the spec.
-struct RunArgs {
-    out: PathBuf,
-    threads: usize,
-    fresh: bool,
-    limit: Option<usize>,
-    plots: bool,
-    kernel: Kernel,
-}
-
-/// What a run did, for the result dict.
-struct Ran {
-    new_trials: usize,
-    resumed: usize,
-    missing: usize,
-    notes: Vec<String>,
-    table: String,
-    files: Vec<PathBuf>,
+/// How the Python algorithms of a run are run, besides the spec and the folder.
+struct Workers {
+    /// In worker processes (`python -m brdf_sls worker`), one per thread; else on the run's
+    /// threads in this interpreter.
+    processes: bool,
+    /// This interpreter (`sys.executable`) and its module search path (`sys.path`), which the
+    /// workers get, so they import the algorithms as this process does.
+    python: OsString,
+    path: OsString,
+    /// What names the spec in messages.
+    origin: String,
 }
 
 /// Runs (or resumes) an experiment as `brdf-sls run SPEC` does: the same trials with the same
-/// seeds, the same results folder (trials.jsonl, statistics, table, plots).
+/// seeds, the same results folder (trials.jsonl, statistics, table, plots, report.html), and
+/// the same plan, notes and progress on standard error (`progress="quiet"`: none).
 ///
 /// spec: the TOML file (None: the built-in default experiment); out: the results folder
 /// (default `runs/<spec stem>/`, relative to the working directory, as the command line);
 /// threads (default: the spec's, else all CPUs); fresh: move old results aside; limit: run at
-/// most this many new trials; plots: draw the plots; kernel: overrides the spec's.
+/// most this many new trials; plots: draw the plots and the report page; kernel: overrides the
+/// spec's; shard: "K/N", one shard of the plan (as `--shard`); progress: "auto", "bars",
+/// "plain" or "quiet"; processes: run the algorithms written in Python in worker processes,
+/// one per thread (default), else on threads of this interpreter (one core at a time).
 ///
 /// Returns a dict: out, new_trials, resumed, missing, notes, warnings (targets close to the
-/// best-known RMSE), table, files. Releases the GIL;
-/// Ctrl-C stops the trials in flight (none of them is stored) and raises KeyboardInterrupt;
-/// running again resumes.
+/// best-known RMSE), table, files, summary, threads. Releases the GIL; Ctrl-C stops the trials
+/// in flight (none of them is stored) and raises KeyboardInterrupt; running again resumes.
 #[pyfunction]
-#[pyo3(signature = (spec=None, out=None, *, threads=None, fresh=false, limit=None, plots=true, kernel=None))]
+#[pyo3(signature = (spec=None, out=None, *, threads=None, fresh=false, limit=None, plots=true, kernel=None, shard=None, progress="auto", processes=true))]
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     py: Python<'_>,
@@ -63,175 +58,131 @@ pub fn run(
     limit: Option<usize>,
     plots: bool,
     kernel: Option<&str>,
+    shard: Option<&str>,
+    progress: &str,
+    processes: bool,
 ) -> PyResult<Py<PyAny>> {
-    let mut loaded = match &spec {
+    let loaded = match &spec {
         Some(p) => py
             .detach(|| Spec::from_file(p))
             .map_err(|e| input_err(chain(e.into())))?,
         None => Spec::default_experiment(),
+    };
+    let shard: Option<Shard> = match shard {
+        Some(s) => Some(
+            s.parse()
+                .map_err(|e| input_err(format!("shard={s}: {e}")))?,
+        ),
+        None => None,
     };
     let stem = spec
         .as_deref()
         .and_then(Path::file_stem)
         .map_or_else(|| "default".into(), |s| s.to_string_lossy().into_owned());
     let threads = threads.or(loaded.threads).unwrap_or_else(default_threads);
-    if threads == 0 {
-        return Err(input_err("threads must be at least 1"));
-    }
+    brdf_experiment::threads::check(threads, "threads").map_err(input_err)?;
     let kernel = match kernel {
         Some(k) => k.parse().map_err(input_err)?,
         None => loaded.kernel,
     };
-    let out = out.unwrap_or_else(|| PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem));
-    // As `brdf-sls run`: relative targets need the best-known RMSEs (recorded or computed).
-    let warnings = py
-        .detach(|| brdf_experiment::best_known::resolve_for_run(&mut loaded, Some(&out)))
-        .context("finding the best-known RMSEs")
-        .map_err(classify)?;
-    let args = RunArgs {
-        out,
-        threads,
-        fresh,
-        limit,
-        plots,
-        kernel,
+    let progress: ProgressMode = progress
+        .parse()
+        .map_err(|e| input_err(format!("progress={progress}: {e}")))?;
+    let out = out.unwrap_or_else(|| {
+        let base = PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem);
+        match shard {
+            Some(s) => base.join(s.dir_name()),
+            None => base,
+        }
+    });
+    let sys = py.import("sys")?;
+    let workers = Workers {
+        processes,
+        python: sys
+            .getattr("executable")?
+            .extract::<PathBuf>()?
+            .into_os_string(),
+        path: std::env::join_paths(sys.getattr("path")?.extract::<Vec<PathBuf>>()?)
+            .map_err(run_err)?,
+        origin: spec
+            .as_deref()
+            .map_or_else(|| "<built-in default>".into(), |p| p.display().to_string()),
     };
-    let ran = interruptible(py, |flag| run_spec(&loaded, &args, flag))??;
+    let request = Request {
+        kernel,
+        shard,
+        options: RunOptions {
+            threads,
+            fresh,
+            progress,
+            limit,
+        },
+        plots,
+        notes: progress != ProgressMode::Quiet,
+        spec: loaded,
+        out: out.clone(),
+    };
+    let finished = interruptible(py, |flag| run_spec(request, &workers, flag))??;
     let d = PyDict::new(py);
-    d.set_item("out", args.out.clone())?;
-    d.set_item("new_trials", ran.new_trials)?;
-    d.set_item("resumed", ran.resumed)?;
-    d.set_item("missing", ran.missing)?;
-    d.set_item("notes", ran.notes)?;
-    d.set_item("warnings", warnings)?;
-    d.set_item("table", ran.table)?;
-    d.set_item("files", ran.files)?;
+    let outcome = &finished.outcome;
+    d.set_item("out", out)?;
+    d.set_item("new_trials", outcome.new_trials)?;
+    d.set_item("resumed", outcome.resumed)?;
+    d.set_item("missing", outcome.missing)?;
+    d.set_item("notes", outcome.notes.clone())?;
+    d.set_item("warnings", finished.warnings.clone())?;
+    d.set_item("table", finished.report.table.clone())?;
+    d.set_item("files", finished.report.files.clone())?;
+    d.set_item("summary", finished.summary.clone())?;
+    d.set_item("threads", finished.threads)?;
     Ok(d.into_any().unbind())
 }
 
-/// The work of [`run`] on the worker thread: the steps of `brdf-sls run` without printing.
+/// The work of [`run`] on the worker thread: the pipeline of `brdf-sls run`.
 fn run_spec(
-    spec: &Spec,
-    a: &RunArgs,
+    request: Request,
+    workers: &Workers,
     flag: std::sync::Arc<std::sync::atomic::AtomicBool>,
-) -> PyResult<Ran> {
-    let (mut executor, _) = SlsExecutor::new(spec, a.kernel)
-        .context("building the instances")
-        .map_err(classify)?;
-    executor.set_interrupt(flag);
-    let executor = PyExecutor {
-        inner: executor,
-        spec,
-        failures: Mutex::new(Vec::new()),
-    };
-    let options = RunOptions {
-        threads: a.threads,
-        fresh: a.fresh,
-        progress: ProgressMode::Quiet,
-        limit: a.limit,
-    };
-    let outcome = match run_experiment(spec, &a.out, &options, &executor) {
-        Err(RunError::Interrupted) => {
-            return Err(PyKeyboardInterrupt::new_err(
-                RunError::Interrupted.to_string(),
-            ));
-        }
-        r => r
-            .with_context(|| format!("running experiment `{}`", spec.name))
-            .map_err(classify)?,
-    };
-    let contents = read_store(&a.out)
-        .context("reading back the results")
-        .map_err(classify)?;
-    let report = brdf_analysis::report::write_report(
-        spec,
-        &outcome.records,
-        &contents.sessions,
-        &a.out,
-        a.plots,
-    )
-    .context("writing statistics and plots")
-    .map_err(classify)?;
-    if let Some(message) = executor.failure_message(outcome.missing) {
-        return Err(input_err(message));
-    }
-    Ok(Ran {
-        new_trials: outcome.new_trials,
-        resumed: outcome.resumed,
-        missing: outcome.missing,
-        notes: outcome.notes,
-        table: report.table,
-        files: report.files,
-    })
-}
-
-/// The run's executor: [`SlsExecutor`], plus the failures of Python algorithms. A trial whose
-/// algorithm failed ends as interrupted; its configuration's trials are skipped from then on
-/// (neither that one nor the others are stored) while the other configurations run to the end,
-/// and [`PyExecutor::failure_message`] names the configuration afterwards.
-struct PyExecutor<'a> {
-    inner: SlsExecutor,
-    spec: &'a Spec,
-    /// The failed configurations (by index) and the first failure of each.
-    failures: Mutex<Vec<(usize, String)>>,
-}
-
-impl PyExecutor<'_> {
-    fn failures(&self) -> std::sync::MutexGuard<'_, Vec<(usize, String)>> {
-        self.failures.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    /// The error of a run in which configurations failed, `missing` trials left unrun.
-    fn failure_message(&self, missing: usize) -> Option<String> {
-        let failures = self.failures();
-        if failures.is_empty() {
-            return None;
-        }
-        let each: Vec<&str> = failures.iter().map(|(_, m)| m.as_str()).collect();
-        Some(format!(
-            "running experiment `{}`: {}; trials missing: {missing}; the other configurations \
-             ran and every finished trial is saved, with the statistics: fix the algorithm and \
-             run again to resume",
-            self.spec.name,
-            each.join("; ")
-        ))
+) -> PyResult<Finished> {
+    let result = brdf_analysis::pipeline::run(request, |spec, built, kernel| {
+        let is_python = |c: &brdf_experiment::spec::Configuration| {
+            workers.processes && c.algorithm.kind_name() == brdf_experiment::python_kind::KIND
+        };
+        let command = || WorkerCommand {
+            program: workers.python.clone(),
+            args: ["-m", "brdf_sls", "worker"].map(OsString::from).to_vec(),
+            env: vec![("PYTHONPATH".into(), workers.path.clone())],
+        };
+        let mut executor = Routed::new(spec, built, kernel, is_python, command, &workers.origin)
+            .map_err(|e| match e {
+                RoutedError::Instance(e) => anyhow::Error::new(e).context("building the instances"),
+                RoutedError::Pool(PoolError::Refused(m)) => anyhow::Error::new(Refused(m)),
+                RoutedError::Pool(e) => anyhow::Error::new(e).context("starting the workers"),
+            })?;
+        executor.set_interrupt(flag);
+        Ok(executor)
+    });
+    match result {
+        Ok(finished) => Ok(finished),
+        Err(e) if matches!(e.downcast_ref::<RunError>(), Some(RunError::Interrupted)) => Err(
+            PyKeyboardInterrupt::new_err(RunError::Interrupted.to_string()),
+        ),
+        Err(e) => Err(classify(e)),
     }
 }
 
-impl Executor for PyExecutor<'_> {
-    fn provenance(&self) -> Provenance {
-        self.inner.provenance()
-    }
-
-    fn run(&self, trial: &PlannedTrial, target: f64, budget: Budget) -> TrialResult {
-        let result = crate::algorithm::with_cpu_cutoff(budget.cpu_seconds, || {
-            self.inner.run(trial, target, budget)
-        });
-        if let Some(message) = crate::algorithm::take_failure() {
-            let mut failures = self.failures();
-            // Trials of the configuration that were in flight may fail too: the first says it.
-            if !failures.iter().any(|(c, _)| *c == trial.config) {
-                let label = &self.spec.configurations[trial.config].label;
-                let message = format!(
-                    "configuration `{label}` failed in trial {} (seed {}): {message}",
-                    trial.key, trial.seed
-                );
-                failures.push((trial.config, message));
-            }
-        }
-        result
-    }
-
-    fn skip(&self, trial: &PlannedTrial) -> bool {
-        self.failures().iter().any(|(c, _)| *c == trial.config)
-    }
-}
+/// A spec or instance refused in a worker: bad input.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct Refused(String);
 
 /// An error of a run as InputError (what the command line treats as bad input, exit status
 /// 2) or RunError (status 1), with the command line's message.
 fn classify(e: anyhow::Error) -> PyErr {
     let input = e.chain().any(|c| {
         c.is::<brdf_experiment::spec::SpecError>()
+            || c.is::<Refused>()
+            || c.is::<brdf_analysis::pipeline::ConfigurationsFailed>()
             || c.is::<brdf_experiment::instance::InstanceError>()
             || c.is::<brdf_model::KernelError>()
             || matches!(

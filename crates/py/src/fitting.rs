@@ -75,16 +75,8 @@ pub fn fit(
         progress: brdf_fit::FitProgress::Quiet,
         surface: Surface::Python,
     };
-    let (outcome, failure) = interruptible(py, |flag| {
-        let outcome = crate::algorithm::with_cpu_cutoff(Some(cpu_seconds), || {
-            brdf_fit::fit(data, &request, Some(flag))
-        });
-        // A Python algorithm's failure, left on this thread (its trial ended as interrupted).
-        (outcome, crate::algorithm::take_failure())
-    })?;
-    if let Some(message) = failure {
-        return Err(input_err(message));
-    }
+    // A Python algorithm's failure is a FitError::Input with its message.
+    let outcome = interruptible(py, |flag| brdf_fit::fit(data, &request, Some(flag)))?;
     match outcome {
         Ok(fit) => fit_dict(py, &request, fit),
         Err(FitError::Interrupted) => Err(PyKeyboardInterrupt::new_err("fit interrupted")),

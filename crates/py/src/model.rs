@@ -33,9 +33,8 @@ pub fn families(py: Python<'_>) -> PyResult<Py<PyAny>> {
         .into_iter()
         .filter_map(|n| brdf_model::family(n).ok())
         .map(|f| {
-            let names = |fs: &[brdf_model::FieldDef]| -> Vec<&str> {
-                fs.iter().map(|d| d.name).collect()
-            };
+            let names =
+                |fs: &[brdf_model::FieldDef]| -> Vec<&str> { fs.iter().map(|d| d.name).collect() };
             BTreeMap::from([
                 ("name", serde_json::json!(f.name())),
                 ("summary", serde_json::json!(f.summary())),

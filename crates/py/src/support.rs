@@ -6,35 +6,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use brdf_model::Params;
-use pyo3::create_exception;
-use pyo3::exceptions::{PyBaseException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
 
-create_exception!(
-    _native,
-    InputError,
-    PyValueError,
-    "Bad input (a data file, a spec, a parameter, an algorithm setting): the command line \
-     exits with status 2 on it. The message is the command line's."
-);
-create_exception!(
-    _native,
-    RunError,
-    PyRuntimeError,
-    "A failure while running (a results folder in use, a full disk, a fit that evaluated \
-     nothing): the command line exits with status 1 on it. The message is the command line's."
-);
-
-create_exception!(
-    _native,
-    BudgetExhausted,
-    PyBaseException,
-    "The trial is over: its target is reached or its budget (evaluations, CPU seconds) spent. \
-     Raised by every method of a Problem from then on, and in the algorithm's thread by a \
-     watchdog once it runs past a CPU budget without calling them. A BaseException, so that \
-     `except Exception` in an algorithm does not swallow it; let it propagate (or return)."
-);
+pub use crate::exceptions::{BudgetExhausted, InputError, RunError};
 
 /// An [`InputError`] with `message`.
 pub fn input_err(message: impl std::fmt::Display) -> PyErr {
@@ -56,8 +31,10 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// Runs `work` on a worker thread while the calling thread waits without the GIL, checking for
 /// signals every 50 ms. On Ctrl-C (or any signal handler raising) the flag given to `work` is
-/// raised, the worker is waited for (it stops at its next evaluation) and the handler's
-/// exception (KeyboardInterrupt) is returned. A panic in `work` becomes a [`RunError`] instead
+/// raised, the watchdog interrupts the Python algorithms running in this process
+/// ([`crate::watchdog::interrupt_all`], for those that never call their problem), the worker
+/// is waited for (it stops at its next evaluation) and the handler's exception
+/// (KeyboardInterrupt) is returned. A panic in `work` becomes a [`RunError`] instead
 /// of crossing into Python.
 pub fn interruptible<T, F>(py: Python<'_>, work: F) -> PyResult<T>
 where
@@ -73,11 +50,13 @@ where
             py.detach(|| std::thread::sleep(SIGNAL_POLL));
             if let Err(e) = py.check_signals() {
                 flag.store(true, Ordering::Relaxed);
+                crate::watchdog::interrupt_all(true);
                 signal = Some(e);
                 break;
             }
         }
         let joined = py.detach(move || handle.join());
+        crate::watchdog::interrupt_all(false);
         if let Some(e) = signal {
             return Err(e);
         }

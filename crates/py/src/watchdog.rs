@@ -20,17 +20,23 @@
 //! then the registry (the watchdog reads the clocks under the registry's lock alone, without
 //! waiting for the GIL there).
 //!
+//! The same watch serves Ctrl-C: while a run or a fit is being interrupted ([`interrupt_all`]),
+//! the watchdog raises `KeyboardInterrupt` in every watched thread (again every [`REFIRE`]
+//! seconds of wall time), so that an algorithm that never calls its problem stops too, with
+//! or without a CPU budget.
+//!
 //! Linux only (a thread's CPU clock read from another thread: `pthread_getcpuclockid`); on
 //! other systems [`Watch::start`] watches nothing.
 
 use std::os::raw::c_long;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use pyo3::ffi;
 use pyo3::prelude::*;
 
-use crate::support::BudgetExhausted;
+use crate::exceptions::BudgetExhausted;
 
 /// How often the watchdog reads the watched threads' CPU clocks.
 const POLL: Duration = Duration::from_millis(10);
@@ -50,8 +56,30 @@ struct Entry {
     clock: libc::clockid_t,
     /// Reading of `clock` at which to raise next.
     due: f64,
-    /// Exceptions raised so far.
+    /// BudgetExhausted raised so far.
     fired: u32,
+    /// KeyboardInterrupt raised so far, and when last.
+    interrupts: u32,
+    interrupted_at: Option<Instant>,
+}
+
+/// Whether a run is being interrupted: see [`interrupt_all`].
+static INTERRUPTING: AtomicBool = AtomicBool::new(false);
+
+/// Starts (`true`) or ends (`false`) the interruption of every watched Python algorithm:
+/// while on, the watchdog raises `KeyboardInterrupt` in each watched thread (Ctrl-C during a
+/// run or a fit).
+pub fn interrupt_all(on: bool) {
+    INTERRUPTING.store(on, Ordering::SeqCst);
+}
+
+/// What the watchdog raised in a watched call.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fired {
+    /// `BudgetExhausted` at the CPU cutoff.
+    pub budget: u32,
+    /// `KeyboardInterrupt` on an interrupt.
+    pub interrupts: u32,
 }
 
 struct Registry {
@@ -80,12 +108,14 @@ pub struct Watch {
 
 impl Watch {
     /// Watches the current thread: `BudgetExhausted` is raised in it once it has spent
-    /// `cpu_seconds` of CPU time from now (plus the grace). `None` where threads' CPU clocks
+    /// `cpu_seconds` of CPU time from now (plus the grace; never without a CPU budget), and
+    /// `KeyboardInterrupt` while the run is interrupted. `None` where threads' CPU clocks
     /// cannot be read.
-    pub fn start(cpu_seconds: f64) -> Option<Self> {
-        if !cpu_seconds.is_finite() {
-            return None;
-        }
+    pub fn start(cpu_seconds: Option<f64>) -> Option<Self> {
+        let due_in = match cpu_seconds {
+            Some(c) if c.is_finite() => c + grace(c),
+            _ => f64::INFINITY,
+        };
         // SAFETY: pthread_self has no preconditions.
         let thread = unsafe { libc::pthread_self() };
         let clock = thread_clock(thread)?;
@@ -98,8 +128,10 @@ impl Watch {
                 key,
                 thread,
                 clock,
-                due: now + cpu_seconds + grace(cpu_seconds),
+                due: now + due_in,
                 fired: 0,
+                interrupts: 0,
+                interrupted_at: None,
             });
             key
         };
@@ -116,11 +148,11 @@ impl Watch {
         })
     }
 
-    /// Ends the watch and returns how many times the watchdog raised in the call. Call it with
-    /// the GIL held, right after the call returns, so that no bytecode runs in between.
-    pub fn finish(&mut self) -> u32 {
+    /// Ends the watch and returns what the watchdog raised in the call. Call it with the GIL
+    /// held, right after the call returns, so that no bytecode runs in between.
+    pub fn finish(&mut self) -> Fired {
         if self.done {
-            return 0;
+            return Fired::default();
         }
         self.done = true;
         // The GIL first (the watchdog's order); re-entrant when the caller holds it already.
@@ -128,9 +160,15 @@ impl Watch {
             let fired = {
                 let mut r = registry();
                 let i = r.entries.iter().position(|e| e.key == self.key);
-                i.map_or(0, |i| r.entries.swap_remove(i).fired)
+                i.map_or_else(Fired::default, |i| {
+                    let e = r.entries.swap_remove(i);
+                    Fired {
+                        budget: e.fired,
+                        interrupts: e.interrupts,
+                    }
+                })
             };
-            if fired > 0 {
+            if fired != Fired::default() {
                 // An exception raised but not delivered yet would surface in the harness's
                 // next Python code on this thread: withdraw it. Safe with the GIL held; the
                 // thread is no longer watched, so none follows.
@@ -176,23 +214,39 @@ fn cpu_now(clock: libc::clockid_t) -> Option<f64> {
     Some(ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9)
 }
 
+/// Whether an interrupted thread is due a (first or further) `KeyboardInterrupt`.
+fn interrupt_due(e: &Entry) -> bool {
+    e.interrupted_at
+        .is_none_or(|at| at.elapsed().as_secs_f64() >= REFIRE)
+}
+
 /// The watchdog thread's loop.
 fn patrol() {
     loop {
         std::thread::sleep(POLL);
         // Without the GIL: most polls find nothing due and leave the Python threads alone.
-        let due = registry()
-            .entries
-            .iter()
-            .any(|e| cpu_now(e.clock).is_some_and(|t| t >= e.due));
+        let interrupting = INTERRUPTING.load(Ordering::SeqCst);
+        let due = registry().entries.iter().any(|e| {
+            (interrupting && interrupt_due(e)) || cpu_now(e.clock).is_some_and(|t| t >= e.due)
+        });
         if !due {
             continue;
         }
         // `try_attach`: nothing to do once the interpreter is finalizing.
         let _ = Python::try_attach(|py| {
             let exception = py.get_type::<BudgetExhausted>();
+            let keyboard = py.get_type::<pyo3::exceptions::PyKeyboardInterrupt>();
             let mut r = registry();
             for e in &mut r.entries {
+                if interrupting && interrupt_due(e) {
+                    // SAFETY: as below.
+                    unsafe {
+                        ffi::PyThreadState_SetAsyncExc(e.thread as c_long, keyboard.as_ptr())
+                    };
+                    e.interrupts += 1;
+                    e.interrupted_at = Some(Instant::now());
+                    continue;
+                }
                 let Some(t) = cpu_now(e.clock) else { continue };
                 if t >= e.due {
                     // SAFETY: with the GIL held, as the call requires; `e.thread` is watched,

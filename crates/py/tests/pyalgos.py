@@ -132,3 +132,31 @@ def swallows_twice(problem):
                 problem.count("caught")
                 raise
             problem.count("caught")
+
+
+# Set by the tests: a file a spinning algorithm writes its process ID to.
+PID_ENV = "BRDF_SLS_TEST_PID_FILE"
+
+
+def spins(problem):
+    """One evaluation, then pure Python forever without calling the problem, saying where it
+    runs (its process ID in the file named by PID_ENV): under an evaluation budget alone only
+    an interrupt (Ctrl-C) ends it."""
+    problem.rmse(problem.random_pick())
+    path = os.environ.get(PID_ENV)
+    if path:
+        with open(path, "w") as f:
+            f.write(str(os.getpid()))
+    while True:
+        x = sum(range(1000))  # noqa: F841
+
+
+def busy(problem, work=3000):
+    """A CPU-bound algorithm in pure Python: a random pick, `work` steps of Python arithmetic,
+    one RMSE, again, until the budget ends it."""
+    while True:
+        x = problem.random_pick()
+        s = 0.0
+        for i in range(work):
+            s += (i % 7) * 0.5
+        problem.rmse(x)

@@ -1,7 +1,7 @@
 """The Python example of docs/own-algorithm.md ("Benchmark your own algorithm") runs as written:
 its algorithm and spec, from the folder that holds them, with `python -m brdf_sls run` and with
-`brdf-sls run` (which hands the spec to Python). The guide's Rust example runs as a doc test of
-sls."""
+`brdf-sls run` (which runs its Python configurations in worker processes). The guide's Rust
+example runs as a doc test of sls."""
 
 from __future__ import annotations
 
@@ -63,11 +63,14 @@ def test_guide_example_runs_with_python_m(example):
 def test_guide_example_runs_with_the_command_line(cli, example):
     env = {**os.environ, "BRDF_SLS_PYTHON": sys.executable}
     p = subprocess.run(
-        [str(cli.binary), "run", "compass.toml", "--out", "out", "--no-plots", "--threads", "2"],
+        [str(cli.binary), "run", "compass.toml", "--out", "out", "--threads", "2"],
         cwd=example, env=env, capture_output=True, text=True, timeout=600,
     )
     assert p.returncode == 0, p.stderr
     check_results(example / "out")
+    # The same files as any other run: the report page too.
+    assert (example / "out" / "report.html").is_file()
+    assert "page: report.html" in p.stdout, p.stdout
     # The commands that only read specs and results know the kind without Python.
     stats = cli("stats", example / "out", "--print-only")
     assert "Compass" in stats.stdout
@@ -85,3 +88,16 @@ def test_the_command_line_says_what_to_install(cli, example):
     assert "no-such-python" in p.stderr and "cannot import it" in p.stderr
     assert "maturin develop --release -m crates/py/Cargo.toml" in p.stderr
     assert not (example / "out" / "trials.jsonl").exists()
+
+
+def test_the_command_line_runs_python_shards(cli, example):
+    """Shards of a spec with Python algorithms run (in worker processes) and merge."""
+    env = {**os.environ, "BRDF_SLS_PYTHON": sys.executable}
+    for k in (1, 2):
+        p = subprocess.run(
+            [str(cli.binary), "run", "compass.toml", "--shard", f"{k}/2", "--out", f"shard-{k}", "--no-plots"],
+            cwd=example, env=env, capture_output=True, text=True, timeout=600,
+        )
+        assert p.returncode == 0, p.stderr
+    cli("merge", example / "merged", example / "shard-1", example / "shard-2", "--no-plots")
+    check_results(example / "merged")

@@ -219,7 +219,8 @@ def test_no_finished_trial_is_lost_and_a_fixed_algorithm_resumes(tmp_path, monke
 def test_a_problem_kept_after_its_trial_raises(tmp_path):
     pyalgos.KEPT.clear()
     spec = write_spec(tmp_path, python_entry("pyalgos:keeps_problem"), trials=1, evaluations=5_000)
-    bs.run(spec, tmp_path / "out", plots=False)
+    # On threads of this interpreter, so the problem kept is in this process.
+    bs.run(spec, tmp_path / "out", plots=False, processes=False)
     (problem,) = pyalgos.KEPT
     assert problem.stopped and problem.dim == 6
     with pytest.raises(RuntimeError, match="is over"):
@@ -235,6 +236,12 @@ def test_python_m_brdf_sls_run(tmp_path):
     )
     assert p.returncode == 0, p.stderr
     assert "2 new trials" in p.stderr and "PY" in p.stdout
+    # What `brdf-sls run` prints: the plan, the machine, the instances and progress with an
+    # ETA (plain lines: standard error is not a terminal), then the table and the files.
+    for line in ("experiment `mixed`", "master seed 11", "machine: ", "instance tuning: 200 samples",
+                 "2/2 trials (", "new trials in "):
+        assert line in p.stderr, (line, p.stderr)
+    assert "wrote 6 files to" in p.stdout, p.stdout
     bad = write_spec(tmp_path, python_entry("pyalgos:raises"), name="bad", trials=1, evaluations=5_000)
     p = subprocess.run(
         [sys.executable, "-m", "brdf_sls", "run", str(bad), "--out", str(tmp_path / "bad"), "--no-plots"],
@@ -264,3 +271,65 @@ def test_settings_can_be_swept(tmp_path):
     assert settings["PY step=0.05"] == {"kind": "python", "entry": "pyalgos:walk", "step": 0.05}
     assert settings["PY step=0.2"]["step"] == 0.2
     assert sorted(r["config"] for r in recs) == ["AED", "PY step=0.05", "PY step=0.2"]
+
+
+@pytest.mark.parametrize(
+    "function,line",
+    [("nan_point", "x[0] = float(\"nan\")"), ("outside", "problem.rmse(problem.upper + 1.0)"), ("wrong_shape", "problem.residuals(")],
+)
+def test_a_bad_point_names_the_python_file_and_line(tmp_path, function, line):
+    source = open(pyalgos.__file__).read().splitlines()
+    start = source.index(f"def {function}(problem):")
+    # The line of the call that passed the point (for nan_point: the rmse call after it).
+    at = next(i for i in range(start, len(source)) if "problem." in source[i] and ("rmse" in source[i] or "residuals" in source[i]))
+    spec = write_spec(tmp_path, python_entry(f"pyalgos:{function}"), trials=1)
+    with pytest.raises(bs.InputError) as e:
+        bs.run(spec, tmp_path / "out", plots=False)
+    assert f"pyalgos.py:{at + 1} in {function})" in str(e.value), str(e.value)
+
+
+def test_exceptions_are_named_as_the_package_exports_them():
+    import traceback
+
+    for cls in (bs.InputError, bs.RunError, bs.BudgetExhausted):
+        assert cls.__module__ == "brdf_sls", cls.__module__
+    try:
+        bs.DataSet.read("no-such-file.brdf")
+    except bs.InputError as e:
+        last = traceback.format_exception_only(type(e), e)[-1]
+        assert last.startswith("brdf_sls.InputError: "), last
+
+
+def strip_clocks(rec):
+    """A trial record without its clock readings (CPU and wall seconds)."""
+    res = json.loads(json.dumps(rec["result"]))
+    for stamp in [res["ended_at"], res.get("reached_at")] + [p["at"] for p in res["trace"]]:
+        if stamp:
+            stamp.pop("cpu_seconds")
+            stamp.pop("wall_seconds")
+    return {**rec, "result": res}
+
+
+def test_worker_processes_give_the_threads_results(tmp_path):
+    python = python_entry("pyalgos:walk", step=0.1, descents=True) + "\n\n" + python_entry("pyalgos:busy", label="BUSY", work=200)
+    spec = write_spec(tmp_path, python, name="same", trials=3, evaluations=20_000)
+    bs.run(spec, tmp_path / "procs", plots=False, threads=2)
+    bs.run(spec, tmp_path / "threads", plots=False, threads=2, processes=False)
+    _, a = records(tmp_path / "procs")
+    _, b = records(tmp_path / "threads")
+    assert len(a) == len(b) == 9
+    by_key = lambda recs: {r["key"]: strip_clocks(r) for r in recs}  # noqa: E731
+    assert by_key(a) == by_key(b)
+    # Each trial's CPU time is its own: a worker's clock, not the parent's.
+    assert all(r["result"]["ended_at"]["cpu_seconds"] > 0 for r in a)
+
+
+def test_the_command_line_names_an_entry_its_workers_cannot_import(cli, tmp_path):
+    """`brdf-sls run` checks the entry in its first worker, before any trial runs: bad input."""
+    spec = write_spec(tmp_path, python_entry("no_such_module:f"))
+    env = {**os.environ, "BRDF_SLS_PYTHON": sys.executable, "PYTHONPATH": TESTS}
+    p = subprocess.run([str(cli.binary), "run", str(spec), "--out", str(tmp_path / "out")],
+                       capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert "algorithm `PY`" in p.stderr and "cannot import `no_such_module`: ModuleNotFoundError" in p.stderr, p.stderr
+    assert not (tmp_path / "out" / "trials.jsonl").exists()

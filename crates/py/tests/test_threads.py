@@ -9,7 +9,13 @@ import textwrap
 import threading
 import time
 
+import os
+
+import pytest
+
 import brdf_sls as bs
+
+TESTS = os.path.dirname(os.path.abspath(__file__))
 
 
 def test_fit_releases_the_gil():
@@ -94,3 +100,83 @@ def test_ctrl_c_stops_a_run_and_stores_only_finished_trials(tmp_path):
     assert 0 < res.present < 40
     assert all(t["stop"] == "cpu_budget" for t in res.trials)
     assert all(t["cpu_seconds"] >= 2.0 for t in res.trials)
+
+
+SPINS = """
+seed = 1
+trials = 1
+
+[budget]
+evaluations = 100000
+
+[[instance]]
+name = "t"
+targets = [0.0]
+[instance.synthetic]
+params = "tuning"
+samples = 200
+
+[[algorithm]]
+label = "SPINS"
+kind = "python"
+entry = "pyalgos:spins"
+"""
+
+
+@pytest.mark.parametrize("processes", [True, False])
+def test_ctrl_c_stops_a_python_algorithm_that_never_calls_its_problem(tmp_path, processes):
+    """Under an evaluation budget alone no watchdog cuts it: Ctrl-C must (issue 45.6)."""
+    spec = tmp_path / "spins.toml"
+    spec.write_text(SPINS)
+    pid_file = tmp_path / "pid"
+    out, err, took = _interrupt(
+        f"""
+        import os, sys, time
+        sys.path.insert(0, {TESTS!r})
+        os.environ["BRDF_SLS_TEST_PID_FILE"] = {str(pid_file)!r}
+        import brdf_sls as bs
+        print("started", flush=True)
+        try:
+            bs.run({str(spec)!r}, "out", plots=False, progress="quiet", processes={processes})
+        except KeyboardInterrupt as e:
+            print("interrupted:", e, flush=True)
+        """,
+        tmp_path,
+        delay=3.0,
+    )
+    assert "interrupted" in out, err
+    assert took < 5.0
+    assert pid_file.exists(), "the algorithm was running"
+    if processes:
+        assert _gone(int(pid_file.read_text())), "the worker process was stopped"
+
+
+def _gone(pid: int, wait: float = 5.0) -> bool:
+    """Whether process `pid` ends within `wait` seconds."""
+    end = time.monotonic() + wait
+    while time.monotonic() < end:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_the_command_lines_workers_leave_with_it(cli, tmp_path):
+    """`brdf-sls run` runs Python trials in worker processes: killed by Ctrl-C, it leaves none
+    behind, even one whose algorithm never returns."""
+    spec = tmp_path / "spins.toml"
+    spec.write_text(SPINS)
+    pid_file = tmp_path / "pid"
+    env = {**os.environ, "BRDF_SLS_PYTHON": sys.executable, "PYTHONPATH": TESTS, "BRDF_SLS_TEST_PID_FILE": str(pid_file)}
+    p = subprocess.Popen([str(cli.binary), "run", str(spec), "--out", str(tmp_path / "out"), "--no-plots"],
+                         cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    end = time.monotonic() + 60
+    while not pid_file.exists() and time.monotonic() < end and p.poll() is None:
+        time.sleep(0.1)
+    assert pid_file.exists(), p.communicate()[1] if p.poll() is not None else "no worker started"
+    time.sleep(0.5)
+    p.send_signal(signal.SIGINT)
+    p.communicate(timeout=10)
+    assert _gone(int(pid_file.read_text())), "the worker outlived the command line"

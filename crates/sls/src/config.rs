@@ -2,13 +2,14 @@
 //! `kind = "aed"` etc. (validation errors are [`ConfigError`], defined in `validate.rs`; the
 //! kinds are those of [`crate::registry`]).
 
-use crate::registry::{self, Algorithm, Value};
+use crate::registry;
+use crate::schema::{Algorithm, Erased, Schema};
 use crate::search::{Search, Stop};
 use crate::validate::ConfigError;
+use crate::value::Value;
 use serde::de::Error as _;
 use serde::ser::{Error as _, SerializeMap, SerializeStruct};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use std::any::Any;
 use std::fmt;
 
 /// Which algorithm a trial runs, with its parameters: any registered [`Algorithm`]'s
@@ -27,7 +28,7 @@ use std::fmt;
 /// assert_eq!(back.downcast_ref::<AedConfig>().unwrap().phi, 1.2);
 /// ```
 pub struct AlgorithmConfig {
-    config: Box<dyn DynAlgorithm>,
+    inner: Erased,
 }
 
 impl AlgorithmConfig {
@@ -35,39 +36,60 @@ impl AlgorithmConfig {
     /// kind registered).
     pub fn new<T: Algorithm>(config: T) -> Self {
         Self {
-            config: Box::new(config),
+            inner: Erased::runnable(config),
         }
+    }
+
+    /// Wraps the configuration of a kind this program reads but cannot run
+    /// ([`AlgorithmConfig::run`] then ends the trial with a failure).
+    pub fn read_only<T: Schema>(config: T) -> Self {
+        Self {
+            inner: Erased::read_only(config),
+        }
+    }
+
+    /// Whether this program can run the configuration (its kind has a runner here).
+    pub fn can_run(&self) -> bool {
+        self.inner.runner.is_some()
     }
 
     /// Checks every parameter; the error names the offending field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        self.config.validate()
+        self.inner.config.validate()
     }
 
     /// The `kind` tag: `"aed"`, `"aers"`, `"rpls"`, `"ds"`, `"sa"`, `"sals"`, `"avg"`, `"asa"`,
     /// or a registered algorithm's [`Algorithm::KIND`].
     pub fn kind_name(&self) -> &'static str {
-        self.config.kind()
+        self.inner.config.kind()
     }
 
     /// The default configuration of the registered algorithm named `kind`, if there is one.
     pub fn default_for(kind: &str) -> Option<Self> {
-        registry::default_for(kind)
+        registry::default_for(kind).map(|inner| Self { inner })
     }
 
-    /// Runs the algorithm until it stops (`Err`) or finishes by itself (`Ok`).
+    /// Runs the algorithm until it stops (`Err`) or finishes by itself (`Ok`). A configuration
+    /// of a kind this program cannot run ends the trial at once with a failure saying so
+    /// ([`Stop::Failed`]).
     pub fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
-        self.config.run(search)
+        match self.inner.runner {
+            Some(run) => run(self.inner.config.as_any(), search),
+            None => Err(search.fail(format!(
+                "algorithm kind `{}` cannot run in this program: it only reads its settings",
+                self.kind_name()
+            ))),
+        }
     }
 
     /// The configuration, if it is a `T`.
-    pub fn downcast_ref<T: Algorithm>(&self) -> Option<&T> {
-        self.config.as_any().downcast_ref()
+    pub fn downcast_ref<T: Schema>(&self) -> Option<&T> {
+        self.inner.config.as_any().downcast_ref()
     }
 
     /// The configuration, mutably, if it is a `T`.
-    pub fn downcast_mut<T: Algorithm>(&mut self) -> Option<&mut T> {
-        self.config.as_any_mut().downcast_mut()
+    pub fn downcast_mut<T: Schema>(&mut self) -> Option<&mut T> {
+        self.inner.config.as_any_mut().downcast_mut()
     }
 }
 
@@ -80,21 +102,21 @@ impl<T: Algorithm> From<T> for AlgorithmConfig {
 impl Clone for AlgorithmConfig {
     fn clone(&self) -> Self {
         Self {
-            config: self.config.clone_box(),
+            inner: self.inner.clone(),
         }
     }
 }
 
 impl PartialEq for AlgorithmConfig {
     fn eq(&self, other: &Self) -> bool {
-        self.config.dyn_eq(other.config.as_any())
+        self.inner.config.dyn_eq(other.inner.config.as_any())
     }
 }
 
 /// The configuration's own `Debug` (its type name and fields).
 impl fmt::Debug for AlgorithmConfig {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.config.fmt(f)
+        self.inner.config.fmt(f)
     }
 }
 
@@ -103,7 +125,7 @@ impl fmt::Debug for AlgorithmConfig {
 impl Serialize for AlgorithmConfig {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let kind = self.kind_name();
-        match self.config.capture().map_err(S::Error::custom)? {
+        match self.inner.config.capture().map_err(S::Error::custom)? {
             Value::Struct(name, fields) => {
                 let mut s = serializer.serialize_struct(name, fields.len() + 1)?;
                 s.serialize_field("kind", kind)?;
@@ -148,45 +170,8 @@ impl<'de> Deserialize<'de> for AlgorithmConfig {
                 )));
             }
         };
-        registry::from_fields(&kind, Value::Map(entries)).map_err(D::Error::custom)
-    }
-}
-
-/// An [`Algorithm`] with its type erased: what [`AlgorithmConfig`] holds.
-pub(crate) trait DynAlgorithm: fmt::Debug + Send + Sync {
-    fn kind(&self) -> &'static str;
-    fn validate(&self) -> Result<(), ConfigError>;
-    fn run(&self, search: &mut dyn Search) -> Result<(), Stop>;
-    fn clone_box(&self) -> Box<dyn DynAlgorithm>;
-    fn dyn_eq(&self, other: &dyn Any) -> bool;
-    fn capture(&self) -> Result<Value, serde::de::value::Error>;
-    fn as_any(&self) -> &dyn Any;
-    fn as_any_mut(&mut self) -> &mut dyn Any;
-}
-
-impl<T: Algorithm> DynAlgorithm for T {
-    fn kind(&self) -> &'static str {
-        T::KIND
-    }
-    fn validate(&self) -> Result<(), ConfigError> {
-        Algorithm::validate(self)
-    }
-    fn run(&self, search: &mut dyn Search) -> Result<(), Stop> {
-        Algorithm::run(self, search)
-    }
-    fn clone_box(&self) -> Box<dyn DynAlgorithm> {
-        Box::new(self.clone())
-    }
-    fn dyn_eq(&self, other: &dyn Any) -> bool {
-        other.downcast_ref::<T>() == Some(self)
-    }
-    fn capture(&self) -> Result<Value, serde::de::value::Error> {
-        registry::capture(self)
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
+        registry::from_fields(&kind, Value::Map(entries))
+            .map(|inner| AlgorithmConfig { inner })
+            .map_err(D::Error::custom)
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::objective::{Objective, Rows};
 use crate::search::{Descent, DescentEnd, DescentLimits, Search, Stop};
-use crate::trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
+use crate::trial::{Budget, BudgetState, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 use crate::{AlgorithmConfig, DescentModel, SearchRng};
 use bounded_lm::{Options, Problem, SolveError, Solver};
 use cpu_time::ThreadTime;
@@ -236,6 +236,8 @@ pub struct TrialContext<'a, O: Objective> {
     early_exit: bool,
     /// Residuals of [`Search::evaluate_subsample`] (grown once, then reused).
     subsample_residuals: Vec<f64>,
+    /// Why the algorithm failed ([`Search::fail`]), the first message given.
+    failure: Option<String>,
 }
 
 impl<O: Objective> Drop for TrialContext<'_, O> {
@@ -267,6 +269,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
             known_rmse: None,
             early_exit: true,
             subsample_residuals: Vec::new(),
+            failure: None,
         }
     }
 
@@ -376,6 +379,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
     /// Ends the trial: `end` is what the algorithm returned (`Ok` if it finished by itself).
     pub fn finish(mut self, end: Result<(), Stop>) -> TrialResult {
         let stop = match end {
+            _ if self.failure.is_some() => StopReason::Failed,
             Ok(()) => StopReason::Finished,
             Err(s) => s.into(),
         };
@@ -393,6 +397,7 @@ impl<'a, O: Objective> TrialContext<'a, O> {
                 .iter()
                 .map(|&(name, value)| (name.to_string(), value))
                 .collect(),
+            failure: self.failure.take(),
         }
     }
 
@@ -654,6 +659,19 @@ impl<O: Objective> Search for TrialContext<'_, O> {
 
     fn check_budget(&mut self) -> Result<(), Stop> {
         self.meter.poll_clock()
+    }
+
+    fn budget(&self) -> BudgetState {
+        BudgetState {
+            limits: self.meter.budget,
+            cpu_seconds: self.meter.cpu.elapsed().as_secs_f64(),
+            evaluations: self.meter.counts.total(),
+        }
+    }
+
+    fn fail(&mut self, message: String) -> Stop {
+        self.failure.get_or_insert(message);
+        self.meter.stop(Stop::Failed)
     }
 
     fn count(&mut self, name: &'static str) {

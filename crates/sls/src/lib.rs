@@ -42,9 +42,11 @@ mod context;
 mod descent_model;
 mod objective;
 pub mod registry;
+pub mod schema;
 mod search;
 pub mod trial;
 mod validate;
+mod value;
 
 pub use algorithms::{
     AedConfig, AersConfig, AsaConfig, AvgConfig, DsConfig, Perturbation, RplsConfig, SaConfig,
@@ -58,7 +60,7 @@ pub use context::{
 pub use descent_model::DescentModel;
 pub use objective::{Objective, Rows};
 pub use search::{Descent, DescentEnd, DescentLimits, Search, Stop};
-pub use trial::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
+pub use trial::{Budget, BudgetState, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 pub use validate::ConfigError;
 
 /// The guide docs/own-algorithm.md, whose Rust example runs as a doc test.

@@ -5,6 +5,7 @@
 //! Everything that costs sample-evaluations goes through it, so counting, budgets, the best
 //! candidate and the anytime trace live in one place.
 
+use crate::trial::BudgetState;
 use crate::{Rows, SearchRng, StopReason};
 use bounded_lm::Outcome;
 
@@ -20,6 +21,9 @@ pub enum Stop {
     EvaluationBudget,
     /// The trial's interrupt flag was raised (see [`crate::TrialContext::set_interrupt`]).
     Interrupted,
+    /// The algorithm ended its trial with a failure ([`Search::fail`]): its message is in the
+    /// trial's result ([`crate::TrialResult::failure`]).
+    Failed,
 }
 
 impl From<Stop> for StopReason {
@@ -29,6 +33,7 @@ impl From<Stop> for StopReason {
             Stop::CpuBudget => StopReason::CpuBudget,
             Stop::EvaluationBudget => StopReason::EvaluationBudget,
             Stop::Interrupted => StopReason::Interrupted,
+            Stop::Failed => StopReason::Failed,
         }
     }
 }
@@ -152,6 +157,22 @@ pub trait Search {
     /// stops.
     fn check_budget(&mut self) -> Result<(), Stop> {
         Ok(())
+    }
+    /// The trial's budget (its limits) and how much of it is spent so far: CPU seconds of the
+    /// trial's thread (read now) and sample-evaluations. Costs no evaluation. The default (for
+    /// test fakes) is an unlimited budget with nothing spent.
+    fn budget(&self) -> BudgetState {
+        BudgetState::default()
+    }
+    /// Ends the trial with a failure: records `message` (the first one given) in the trial's
+    /// result ([`crate::TrialResult::failure`], stop [`StopReason::Failed`]) and returns
+    /// [`Stop::Failed`] for the algorithm to return (`Err(search.fail(...))`); every later call
+    /// fails with it. The harness stores no failed trial: it reports the message, naming the
+    /// configuration, and skips that configuration's remaining trials. The default (for test
+    /// fakes) drops the message.
+    fn fail(&mut self, message: String) -> Stop {
+        let _ = message;
+        Stop::Failed
     }
     /// Adds one to the algorithm-specific counter `name` (reported in
     /// [`crate::TrialResult::counters`]).

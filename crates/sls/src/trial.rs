@@ -16,6 +16,34 @@ pub struct Budget {
     pub sample_evaluations: Option<u64>,
 }
 
+/// A trial's budget as the algorithm sees it during the trial ([`crate::Search::budget`]): the
+/// limits and what is spent so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BudgetState {
+    /// The trial's limits.
+    pub limits: Budget,
+    /// CPU seconds of the trial's thread spent so far.
+    pub cpu_seconds: f64,
+    /// Sample-evaluations spent so far ([`EvalCounts::total`]).
+    pub evaluations: u64,
+}
+
+impl BudgetState {
+    /// CPU seconds left (`None`: no CPU limit).
+    pub fn cpu_seconds_left(&self) -> Option<f64> {
+        self.limits
+            .cpu_seconds
+            .map(|limit| (limit - self.cpu_seconds).max(0.0))
+    }
+
+    /// Sample-evaluations left (`None`: no evaluation limit).
+    pub fn evaluations_left(&self) -> Option<u64> {
+        self.limits
+            .sample_evaluations
+            .map(|limit| limit.saturating_sub(self.evaluations))
+    }
+}
+
 /// Evaluation counts in sample-evaluations: one model value at one sample is one unit, so run
 /// lengths compare across algorithms, subsample sizes and machines.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -82,6 +110,9 @@ pub enum StopReason {
     /// Stopped from outside (Ctrl-C in a caller) before the target or a budget: the result is
     /// incomplete and the harness never stores it.
     Interrupted,
+    /// The algorithm failed ([`crate::Search::fail`]; [`TrialResult::failure`] says why): the
+    /// harness never stores it and reports the failure.
+    Failed,
 }
 
 /// Everything a trial reports.
@@ -101,6 +132,10 @@ pub struct TrialResult {
     pub trace: Vec<TracePoint>,
     /// Algorithm-specific counters (restarts, descents by outcome, ...), for diagnostics.
     pub counters: Vec<(String, u64)>,
+    /// Why the algorithm failed (stop [`StopReason::Failed`]); `None` otherwise, and then not
+    /// written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
 }
 
 impl TrialResult {

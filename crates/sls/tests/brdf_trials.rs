@@ -176,3 +176,52 @@ fn a_trial_does_not_depend_on_the_trial_before_it_on_its_thread() {
         assert_eq!(alone, after_another, "{}", config.kind_name());
     }
 }
+
+/// Every algorithm (the standalone SA included) runs on every registered model family: the
+/// searches see only the seam's box, RMSE and least-squares problems, whatever the formula.
+/// Each trial, on 400 noiseless samples of a point inside the family's box, ends on its
+/// evaluation budget or the target with a finite best RMSE no worse than its first candidate's.
+#[test]
+fn every_algorithm_runs_on_every_family() {
+    use brdf_model::{Layout, LobeKind, family, family_names, synthetic};
+    use std::sync::Arc;
+    let mut algorithms = all_algorithms();
+    algorithms.push(AlgorithmConfig::new(sls::SaConfig::default()));
+    for name in family_names() {
+        let f = family(name).unwrap();
+        let kind = if f.kinds().contains(&LobeKind::Anisotropic) {
+            LobeKind::Anisotropic
+        } else {
+            f.kinds()[0]
+        };
+        let layout = Layout::builder_for(&f, &[kind]).unwrap().build().unwrap();
+        let mid: Vec<f64> = layout
+            .lower()
+            .iter()
+            .zip(layout.upper())
+            .map(|(&lo, &hi)| lo + 0.4 * (hi - lo))
+            .collect();
+        let data = Arc::new(synthetic(&layout.decode(&mid), 400, 0.0, 5));
+        let objective = sls::BrdfObjective::new(data, layout);
+        let budget = sls::Budget {
+            cpu_seconds: Some(20.0),
+            sample_evaluations: Some(200_000),
+        };
+        for config in &algorithms {
+            let r = run_trial(&objective, config, 3, budget, 1e-9);
+            assert!(
+                matches!(r.stop, StopReason::EvaluationBudget | StopReason::Target),
+                "{name} {}: {:?}",
+                config.kind_name(),
+                r.stop
+            );
+            let first = r.trace.first().map_or(f64::INFINITY, |p| p.rmse);
+            assert!(
+                r.best_rmse.is_finite() && r.best_rmse <= first,
+                "{name} {}: best {} first {first}",
+                config.kind_name(),
+                r.best_rmse
+            );
+        }
+    }
+}

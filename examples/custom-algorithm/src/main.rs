@@ -11,5 +11,6 @@ fn main() -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::from(1);
     }
-    harness::cli_main()
+    // Named, so results record this program and its version beside the harness's.
+    harness::cli_main_as(env!("CARGO_PKG_NAME"), env!("CARGO_PKG_VERSION"))
 }

@@ -48,6 +48,7 @@ fn trial(i: u32, evals: Option<u64>) -> TrialRecord {
             best_x: vec![],
             trace,
             counters: vec![],
+            failure: None,
         },
     }
 }

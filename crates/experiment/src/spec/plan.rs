@@ -39,6 +39,32 @@ impl Spec {
         })
     }
 
+    /// Takes the settings of the configurations whose kind this program does not know (kept
+    /// as written, `sls::registry::read_unknown_kinds_as_opaque`) from `canonical`, a results
+    /// header's canonical spec, which has every field with its default: the fingerprint is then
+    /// the one the results were written under.
+    pub fn adopt_stored_settings(&mut self, canonical: &serde_json::Value) {
+        let known = sls::registry::kinds();
+        let Some(stored) = canonical["configurations"].as_array() else {
+            return;
+        };
+        for c in &mut self.configurations {
+            let kind = c.algorithm.kind_name();
+            if known.contains(&kind) {
+                continue;
+            }
+            let full = stored
+                .iter()
+                .find(|s| s["label"] == c.label.as_str())
+                .and_then(|s| {
+                    serde_json::from_value::<sls::AlgorithmConfig>(s["algorithm"].clone()).ok()
+                });
+            if let Some(full) = full.filter(|f| f.kind_name() == kind) {
+                c.algorithm = full;
+            }
+        }
+    }
+
     /// Fingerprint of [`Spec::canonical`] (serde_json with sorted keys, hashed by
     /// [`crate::seed::fingerprint`]).
     pub fn fingerprint(&self) -> String {

@@ -635,6 +635,7 @@ mod tests {
             best_x: vec![],
             trace: vec![],
             counters: vec![],
+            failure: None,
         }
     }
 

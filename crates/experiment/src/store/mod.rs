@@ -221,6 +221,14 @@ pub struct Header {
     /// Empty in older files.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub best_known: BTreeMap<String, crate::best_known_record::BestKnown>,
+    /// The program that ran the first session when it named itself (a custom binary's name
+    /// and version, [`crate::run::set_program`]); empty otherwise.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program: String,
+    /// Kind -> hash of its settings schema, for kinds that are not built in
+    /// ([`crate::run::schemas_of`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub schemas: BTreeMap<String, String>,
 }
 
 /// One start of a run against a results file.
@@ -248,6 +256,12 @@ pub struct Session {
     /// Instance name -> best-known RMSE this session used (empty in older files).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub best_known: BTreeMap<String, crate::best_known_record::BestKnown>,
+    /// The program of this session (as in [`Header::program`]).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub program: String,
+    /// The settings schemas of this session (as in [`Header::schemas`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub schemas: BTreeMap<String, String>,
 }
 
 /// One finished trial.
@@ -526,6 +540,3 @@ mod writer;
 pub use brdf_graphics::files::write_atomic;
 pub use folder::{DirLock, LockedFolder, results_reads_on_this_thread};
 pub use writer::{Opened, ResultStore, write_results};
-
-#[cfg(test)]
-mod tests;

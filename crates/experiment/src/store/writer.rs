@@ -192,6 +192,8 @@ impl ResultStore {
             kernel: header.kernel.clone(),
             solver_kernel: header.solver_kernel.clone(),
             best_known: header.best_known.clone(),
+            program: header.program.clone(),
+            schemas: header.schemas.clone(),
         };
         store.write_line(&Line::Session(session.clone()))?;
         sessions.push(session);

@@ -55,9 +55,15 @@ pub fn main() -> std::process::ExitCode {
 /// Runs one command.
 pub fn dispatch(command: Command) -> anyhow::Result<()> {
     if reads_python_specs(&command) {
-        // Specs and results with algorithms written in Python are read like any other; only
-        // running them needs Python (`run` reads the spec, then hands it to Python).
-        brdf_experiment::python_kind::register_read_only();
+        // Specs and results with algorithms written in Python are read like any other (the
+        // kind's schema); only running them needs Python (`run` runs them in worker processes
+        // of the Python package).
+        brdf_experiment::python_kind::register_schema();
+    }
+    if reads_results_only(&command) {
+        // A results folder written by a program with kinds of its own is read all the same:
+        // their settings are kept as written.
+        sls::registry::read_unknown_kinds_as_opaque();
     }
     match command {
         Command::Run(a) => run::run(a),
@@ -85,7 +91,8 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
 }
 
 /// Whether `command` reads specs or results that may name algorithms written in Python:
-/// those that run no trial, and `run`, which hands such a spec to Python.
+/// those that run no trial, `run` and `slurm` (whose shards run them in worker processes of
+/// the Python package), and `trial` and `tune`, which refuse them with a message.
 fn reads_python_specs(command: &Command) -> bool {
     matches!(
         command,
@@ -97,6 +104,24 @@ fn reads_python_specs(command: &Command) -> bool {
             | Command::Merge(_)
             | Command::Report(_)
             | Command::Compare(_)
+            | Command::Polar(_)
+            | Command::Slurm(_)
+            | Command::Trial(_)
+            | Command::Tune(_)
+    )
+}
+
+/// Whether `command` only reads results folders (and so may meet kinds it does not know).
+fn reads_results_only(command: &Command) -> bool {
+    matches!(
+        command,
+        Command::Plot(_)
+            | Command::Stats(_)
+            | Command::Export(_)
+            | Command::Merge(_)
+            | Command::Report(_)
+            | Command::Compare(_)
+            | Command::Polar(_)
     )
 }
 
@@ -135,19 +160,7 @@ pub fn message(e: &anyhow::Error) -> String {
     out
 }
 
-/// The last line of `run` and `merge`: how many files went where, naming plots/ (and the
-/// report page) only when they were drawn.
-pub fn written_summary(files: usize, out: &std::path::Path, plots: bool, page: bool) -> String {
-    format!(
-        "wrote {files} files to {} (statistics: stats.csv, tests.csv{})",
-        out.display(),
-        match (plots, page) {
-            (true, true) => "; plots: plots/; page: report.html",
-            (true, false) => "; plots: plots/",
-            _ => "",
-        }
-    )
-}
+pub use brdf_analysis::pipeline::written_summary;
 
 /// True when the error (or one of its causes) is a closed pipe on our output.
 pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
@@ -164,6 +177,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || brdf_experiment::input_file::is_refused(c)
             || c.is::<brdf_experiment::seed_check::SeedMismatch>()
             || c.is::<brdf_experiment::spec::SpecError>()
+            || c.is::<brdf_analysis::pipeline::ConfigurationsFailed>()
             || c.is::<brdf_io::DataError>()
             || c.is::<brdf_model::ModelError>()
             || c.is::<brdf_model::ParamError>()

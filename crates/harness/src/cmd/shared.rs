@@ -90,6 +90,26 @@ pub fn stored_spec(
     }
 }
 
+/// Refuses, before anything runs, a configuration this program cannot run in its own process
+/// (`kind = "python"`: its trials run only in worker processes of `brdf-sls run`, or from
+/// Python): `command` runs one trial here.
+pub fn refuse_unrunnable(
+    config: &brdf_experiment::spec::Configuration,
+    command: &str,
+) -> Result<()> {
+    if config.algorithm.can_run() {
+        return Ok(());
+    }
+    Err(input_error(format!(
+        "configuration `{}` is of kind `{}`, which `{command}` cannot run: it runs each trial \
+         in this process, and algorithms of that kind run only in `brdf-sls run` (in worker \
+         processes of the Python package, shards and `slurm` included) or from Python \
+         (`brdf_sls.fit`, `brdf_sls.run`)",
+        config.label,
+        config.algorithm.kind_name()
+    )))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

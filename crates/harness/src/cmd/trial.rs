@@ -13,6 +13,15 @@ use crate::cli::TrialArgs;
 pub fn trial(a: TrialArgs) -> Result<()> {
     let spec = load_spec(&a.spec)?;
     let tune = spec.tune.as_ref();
+    // Before anything else: a configuration this program cannot run is refused up front.
+    let named = a.config.as_ref().or(tune.map(|t| &t.algorithm));
+    if let Some(c) = spec
+        .configurations
+        .iter()
+        .find(|c| named.is_none_or(|l| &c.label == l))
+    {
+        super::shared::refuse_unrunnable(c, "brdf-sls trial")?;
+    }
     let kind = a
         .cost
         .or(tune.map(|t| t.cost.kind))

@@ -154,6 +154,13 @@ pub fn tune(a: TuneArgs) -> Result<()> {
             a.spec.display()
         );
     };
+    if let Some(c) = spec
+        .configurations
+        .iter()
+        .find(|c| c.label == tune.algorithm || c.algorithm_label == tune.algorithm)
+    {
+        super::shared::refuse_unrunnable(c, "brdf-sls tune")?;
+    }
     if let Some(b) = a.budget {
         if !(1..=MAX_BUDGET).contains(&b) {
             bail_input!("--budget {b}: expected 1 to {MAX_BUDGET} experiments");

@@ -35,15 +35,20 @@
 //! `ln(hz)` is computed as `ln_1p(-(hx^2 + hy^2)) / 2` while `hx^2 + hy^2 < 1/2` (no
 //! cancellation at sharp lobes, where `ln(hz)` is tiny and multiplied by a large exponent) and
 //! as `ln(hz)` beyond. An isotropic lobe uses the prepared `ln(hz)` directly:
-//! `(n.h)^n = exp(n ln(hz))`, with no rotation. The factor `1 / ((u.h) max(uz, vz))` is
-//! prepared too; it is 0 when both directions lie on (or below) the horizon, where the lobe
+//! `(n.h)^n = exp(n ln(hz))`, with no rotation. The pan's sine and cosine are taken from
+//! degrees with `90 - |pan|` near 90 degrees, as GGX's. The factor `1 / ((u.h) max(uz, vz))`
+//! is prepared too, with `u.h = |u + v| / 2` (symmetric in `u` and `v`, and accurate to
+//! rounding near grazing back-scatter, where it is small and the factor large; Fresnel's
+//! `1 - u.h` is prepared as GGX's, accurate near retro-reflection); it is 0 when both directions lie on (or below) the horizon, where the lobe
 //! is taken as 0 (its limit there depends on the path and on `e`; bbm gives 0 too), and it is
 //! capped at 1e300, so the value, at most `ks (nu + 1)/(8 pi) 1e300`, never overflows. The
 //! value is non-smooth in the directions (the `max`), not in the parameters. Derivatives:
 //! `d ln f / d nu = 1 / (2 (nu + 1)) + h'x^2 g` (likewise `nv`), `d ln f / d pan = 2 h'x h'y
-//! (nu - nv) g` per radian, `d f / d f0 = ks ... (1 - (1 - u.h)^5)`.
+//! (nu - nv) g` per radian, `d f / d f0 = ks ... (1 - (1 - u.h)^5)` (prepared from `u.h` as
+//! `u.h (1 + q + ... + q^4)`, `q = 1 - u.h`: as `1 - q^5` it cancels near grazing
+//! back-scatter, where the factor `1 / (u.h)` makes these entries a column's largest).
 
-use super::geometry::{self, rotate};
+use super::geometry::{self, rotate, sin_cos_deg};
 use super::ward::exp_cut;
 use crate::family::{Coord, FieldDef, ParamDef, Role};
 use crate::lobes::{LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
@@ -73,13 +78,15 @@ const F0: usize = 3;
 const PAN: usize = 4;
 
 /// Prepared columns: the half vector's x and y, `g = ln(hz) / (hx^2 + hy^2)`, `ln(hz)`,
-/// `(1 - u.h)^5` and `1 / ((u.h) max(uz, vz))`.
+/// `(1 - u.h)^5`, `1 / ((u.h) max(uz, vz))` and `1 - (1 - u.h)^5` (the derivative of `F` by
+/// `f0`, from `u.h` without cancellation: [`geometry::one_minus_pow5`]).
 const HX: usize = 0;
 const HY: usize = 1;
 const G: usize = 2;
 const LNHZ: usize = 3;
 const Q5: usize = 4;
 const DEN: usize = 5;
+const OMQ5: usize = 6;
 
 const fn field(name: &'static str, bounds: (f64, f64), default: f64, optional: bool) -> FieldDef {
     FieldDef {
@@ -178,17 +185,19 @@ impl LobeShape for AshikhminShirley {
     const LOBE_FIELDS: &'static [FieldDef] = &FIELDS;
     const ANISOTROPIC: Option<&'static [ParamDef]> = Some(&ANISOTROPIC);
     const ISOTROPIC: Option<&'static [ParamDef]> = Some(&ISOTROPIC);
-    const COLUMNS: usize = 6;
+    const COLUMNS: usize = 7;
     type Coef = AsCoef;
 
     fn prepare(u: [f64; 3], v: [f64; 3], cols: &mut [f64]) {
         // The half vector and `1 - u.h` as GGX has them (`h = (u + v) / |u + v|`; `1 - u.h`
-        // without cancellation near retro-reflection).
+        // without cancellation near retro-reflection), and `u.h = |u + v| / 2` itself, which
+        // keeps its digits near grazing back-scatter, where the factor divides by it (as
+        // `1 - q` it lost them there: 1e-13 relative at `u.h` = 1e-3, 1e-10 at 1e-6).
         let mut geo = [0.0; geometry::COLUMNS];
         geometry::half_vector_columns(u, v, &mut geo);
         let h = [geo[geometry::H], geo[geometry::H + 1], geo[geometry::H + 2]];
         let q = geo[geometry::ONE_MINUS_UH];
-        let uh = 1.0 - q;
+        let uh = geometry::cos_half(u, v);
         let s = h[0] * h[0] + h[1] * h[1];
         let ln_hz = if h[2] <= 0.0 {
             LN_HZ_MIN
@@ -202,6 +211,7 @@ impl LobeShape for AshikhminShirley {
         cols[G] = if s > 0.0 { ln_hz / s } else { -0.5 };
         cols[LNHZ] = ln_hz;
         cols[Q5] = q * q * q * q * q;
+        cols[OMQ5] = geometry::one_minus_pow5::<crate::lobes::Libm>(uh, q);
         let den = uh * u[2].max(v[2]);
         cols[DEN] = if den <= 0.0 {
             0.0
@@ -218,8 +228,14 @@ impl LobeShape for AshikhminShirley {
         } else {
             (f[NU], f[NU])
         };
-        let pan = if aniso { f[PAN] * DEG } else { 0.0 };
-        let (sin, cos) = pan.sin_cos();
+        // From degrees with `90 - |pan|` near 90 (as GGX and Cook-Torrance): `cos(pi / 2)`
+        // in `f64` is 6e-17, not 0, and that absolute error in the rotated slope along a sharp
+        // axis cost up to 1.2e-12 of relative value at pan = 90.
+        let (sin, cos) = if aniso {
+            sin_cos_deg(f[PAN])
+        } else {
+            (0.0, 1.0)
+        };
         let k = if aniso {
             ((nu + 1.0) * (nv + 1.0)).sqrt()
         } else {
@@ -260,7 +276,7 @@ impl LobeShape for AshikhminShirley {
         // The value exactly as `value` computes it, so residuals agree bit for bit.
         let value = c.ksk * p.pf * s[DEN];
         g[KS] = c.k * p.pf * s[DEN];
-        g[F0] = c.ksk * p.p * s[DEN] * (1.0 - s[Q5]);
+        g[F0] = c.ksk * p.p * s[DEN] * s[OMQ5];
         if ANISO {
             let gg = s[G];
             g[NU] = value * M::mad(p.h.0 * p.h.0, gg, c.dnu);

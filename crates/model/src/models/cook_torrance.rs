@@ -46,7 +46,10 @@
 //!   with `lo`, `hi` the smaller and larger of `uz`, `vz` and `q = 2 hz / (u.h) = 4 sz / |s|^2`
 //!   (since `u.h = |s| / 2` for unit vectors), i.e. `1 / (4 lo hi)` or `q / (4 hi)`: no 0/0 at
 //!   the horizon (at `uz = 0` it is the finite limit `hz / (2 (u.h) vz)`);
-//! - `u.h = |s| / 2`, symmetric in `u` and `v`.
+//! - `1 - u.h = |u - v|^2 / (2 (2 + |s|))` (accurate near retro-reflection, for Schlick's
+//!   `(1 - u.h)^5`) and `u.h = |s| / 2` (symmetric in `u` and `v`, accurate near grazing
+//!   back-scatter, for the derivative by `f0`, `1 - (1 - u.h)^5 = u.h (1 + q + ... + q^4)`,
+//!   which as `1 - q^5` would cancel there).
 //!
 //! The lobe is then `ks F(u.h) exp(E - T) / (pi mx my)`, `T = s'x^2 / (mx^2 sz^2) + s'y^2 /
 //! (my^2 sz^2)`: one `exp` per sample, which [`Math::exp_cut`] takes as 0 below `e^-690`
@@ -90,8 +93,10 @@ pub const TAN2: usize = 2;
 pub const LOG_GEOMETRY: usize = 3;
 /// Column of `1 - u.h`, computed without cancellation ([`super::geometry::one_minus_cos_half`]).
 pub const ONE_MINUS_COS_D: usize = 4;
+/// Column of `u.h = |u + v| / 2` ([`super::geometry::cos_half`]), for the derivative by `f0`.
+pub const COS_D: usize = 5;
 /// The number of prepared columns.
-pub const COLUMNS: usize = 5;
+pub const COLUMNS: usize = 6;
 
 /// Below this `sz` (both directions at the horizon) the lobe is 0: `tan^2(theta_h)` is above
 /// about `1e199` and `D` underflows for every roughness in the box.
@@ -166,9 +171,10 @@ pub fn columns(u: [f64; 3], v: [f64; 3]) -> [f64; COLUMNS] {
     let t = s[0] * s[0] + s[1] * s[1];
     let len2 = t + s[2] * s[2];
     let q_d = super::geometry::one_minus_cos_half(u, v);
+    let c_d = super::geometry::cos_half(u, v);
     let above = u[2] >= 0.0 && v[2] >= 0.0 && s[2] >= SZ_MIN;
     if !above {
-        return [0.0, 0.0, 0.0, -f64::MAX, q_d];
+        return [0.0, 0.0, 0.0, -f64::MAX, q_d, c_d];
     }
     let (sx, sy) = (s[0] / s[2], s[1] / s[2]);
     let tan2 = sx * sx + sy * sy;
@@ -180,15 +186,14 @@ pub fn columns(u: [f64; 3], v: [f64; 3]) -> [f64; COLUMNS] {
     } else {
         (q / (4.0 * hi)).ln()
     };
-    [sx, sy, tan2, ln_w + 2.0 * tan2.ln_1p(), q_d]
+    [sx, sy, tan2, ln_w + 2.0 * tan2.ln_1p(), q_d, c_d]
 }
 
 /// The parts of one lobe at one sample shared by the value and the derivatives.
 struct Parts {
     /// `D(h)` (with the geometric factor of `E`).
     d: f64,
-    /// `(1 - u.h)^5` and the Fresnel term.
-    p5: f64,
+    /// The Fresnel term.
     f: f64,
     /// Rotated slopes (anisotropic) or `tan^2(theta_h)` in `sx` (isotropic).
     sx: f64,
@@ -214,7 +219,7 @@ fn parts<M: Math, const ANISO: bool>(c: &CookTorranceCoef, s: &[f64; MAX_COLUMNS
     let q2 = q * q;
     let p5 = q2 * q2 * q;
     let f = M::mad(1.0 - c.f0, p5, c.f0);
-    Parts { d, p5, f, sx, sy }
+    Parts { d, f, sx, sy }
 }
 
 impl LobeShape for CookTorrance {
@@ -272,7 +277,9 @@ impl LobeShape for CookTorrance {
         // The value exactly as `value` computes it, so residuals agree bit for bit.
         let value = c.ks * p.d * p.f;
         g[KS] = p.d * p.f;
-        g[F0] = c.ks * p.d * (1.0 - p.p5);
+        // 1 - (1 - u.h)^5 from u.h, without the cancellation near grazing back-scatter.
+        let omp5 = super::geometry::one_minus_pow5::<M>(s[COS_D], s[ONE_MINUS_COS_D]);
+        g[F0] = c.ks * p.d * omp5;
         if ANISO {
             // ln D = E - sx'^2 / mx^2 - sy'^2 / my^2 - ln(pi mx my).
             let ax = p.sx * p.sx * c.inv_mx2;

@@ -13,7 +13,10 @@
 //! - `G1(w) = 2 wz / (wz + sqrt(wz^2 + ax^2 w'x^2 + ay^2 w'y^2))`, the separable
 //!   (height-uncorrelated) Smith form; the code computes `G1(w) / wz = 2 / (wz + sqrt(..))`, so
 //!   no division by a cosine can reach 0/0 at the horizon;
-//! - `F(c) = f0 + (1 - f0) (1 - c)^5`.
+//! - `F(c) = f0 + (1 - f0) (1 - c)^5`, with `1 - c` prepared as `|u - v|^2 / (2 (2 + |u + v|))`
+//!   (accurate near retro-reflection) and, for the derivative by `f0`, `1 - (1 - c)^5` as
+//!   `c (1 + q + ... + q^4)` from the prepared `c = |u + v| / 2` (accurate near grazing
+//!   back-scatter, where `1 - q^5` would cancel).
 //!
 //! Fields: `ks` (specular scale, in [0, 10]), `ax`, `ay` (roughness, in [0.001, 2.5]: the
 //! published fits reach 2.09), `f0` (Fresnel reflectance at normal incidence, in [0, 1]) and
@@ -21,7 +24,7 @@
 //! `f0`. The roughness is seen by the optimiser as `ln(alpha)` ([`Coord::Log`]) unless the
 //! spec says `exponent = "raw"`.
 
-use super::geometry::{self, H, ONE_MINUS_UH, U, V, rotate};
+use super::geometry::{self, H, ONE_MINUS_UH, U, UH, V, rotate};
 use crate::family::{Coord, FieldDef, ParamDef, Role};
 use crate::lobes::{LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
 
@@ -118,8 +121,7 @@ struct Parts {
     gv: f64,
     lu: f64,
     lv: f64,
-    /// `(1 - u.h)^5` and the Fresnel term.
-    p5: f64,
+    /// The Fresnel term.
     f: f64,
     /// Rotated components: `h`, `u`, `v` (x', y').
     h: (f64, f64),
@@ -165,7 +167,6 @@ fn parts<M: Math, const ANISO: bool>(c: &GgxCoef, s: &[f64; MAX_COLUMNS]) -> Par
         gv,
         lu,
         lv,
-        p5,
         f,
         h,
         u,
@@ -230,7 +231,8 @@ impl LobeShape for Ggx {
         let value = 0.25 * c.ks * p.d * p.f * p.gu * p.gv;
         let k = 0.25 * p.d * p.gu * p.gv;
         g[KS] = k * p.f;
-        g[F0] = c.ks * k * (1.0 - p.p5);
+        // 1 - (1 - u.h)^5 from u.h, without the cancellation near grazing back-scatter.
+        g[F0] = c.ks * k * geometry::one_minus_pow5::<M>(s[UH], s[ONE_MINUS_UH]);
         // d ln(gu) / d q_u = -gu / (4 lu) for q_u = lu^2: gu = 2 / (uz + sqrt(q_u)).
         let su = -0.25 * p.gu / p.lu;
         let sv = -0.25 * p.gv / p.lv;
@@ -252,10 +254,14 @@ impl LobeShape for Ggx {
             let dlp = -2.0 * dt * inv_t + su * dq * p.u.0 * p.u.1 + sv * dq * p.v.0 * p.v.1;
             g[PAN] = value * dlp * DEG;
         } else {
-            // One roughness `a` (`p.h.0` etc. hold the squared tangential lengths).
-            let a = c.ax;
-            let dla =
-                (4.0 * p.h.0 * c.inv_ax2 * inv_t - 2.0) / a + 2.0 * a * (su * p.u.0 + sv * p.v.0);
+            // One roughness `a`: d ln D / d a = (2 - 4 hz^2 / t) / a (from h_xy^2 / a^2 =
+            // t - hz^2) and d ln(G1(w) / wz) / d a = -(1 - wz / lw) / a (from a^2 w_xy^2 =
+            // lw^2 - wz^2), so d ln f / d a = (uz / lu + vz / lv - 4 hz^2 / t) / a: small
+            // terms only. The textbook sum of the three parts, `2/a`, `-(1 - uz/lu)/a` and
+            // `-(1 - vz/lv)/a` near grazing, cancelled there for wide lobes (2e-12 of the
+            // column at a = 2).
+            let (uz, vz, hz) = (s[U + 2], s[V + 2], s[H + 2]);
+            let dla = (uz / p.lu + vz / p.lv - 4.0 * hz * hz * inv_t) / c.ax;
             g[AX] = value * dla;
             g[AY] = 0.0;
             g[PAN] = 0.0;

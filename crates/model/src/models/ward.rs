@@ -58,10 +58,12 @@
 //! `+inf` is Ward's horizon (where the derivatives are 0), and nothing is NaN.
 //! Derivatives (per unit of each field): `d f / d ks = c E N`, `d ln f / d ax = (2 qx - 1) /
 //! ax` with `qx = p'x^2 / ax^2` (likewise `ay`), and `d ln f / d pan = -2 p'x p'y (1/ax^2 -
-//! 1/ay^2)` per radian. Isotropic lobes skip the rotation and use the prepared
+//! 1/ay^2)` per radian. The pan's sine and cosine are taken from degrees with `90 - |pan|`
+//! near 90 degrees (as GGX's), so a lobe turned by 90 degrees keeps its digits along its
+//! sharp axis. Isotropic lobes skip the rotation and use the prepared
 //! `tan^2(theta_h) = px^2 + py^2`.
 
-use super::geometry::rotate;
+use super::geometry::{rotate, sin_cos_deg};
 use crate::family::{Coord, FieldDef, ParamDef, Role};
 use crate::lobes::{LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
 
@@ -280,8 +282,14 @@ impl<const BOUNDED: bool> LobeShape for WardShape<BOUNDED> {
         } else {
             (f[AX], f[AX])
         };
-        let pan = if aniso { f[PAN] * DEG } else { 0.0 };
-        let (sin, cos) = pan.sin_cos();
+        // From degrees with `90 - |pan|` near 90 (as GGX and Cook-Torrance): `cos(pi / 2)`
+        // in `f64` is 6e-17, not 0, and that absolute error in the rotated slope along a sharp
+        // axis cost up to 1.2e-12 of relative value at pan = 90.
+        let (sin, cos) = if aniso {
+            sin_cos_deg(f[PAN])
+        } else {
+            (0.0, 1.0)
+        };
         WardCoef {
             ks: f[KS],
             ax,

@@ -1,9 +1,11 @@
-"""``python -m brdf_sls run SPEC``: runs an experiment as ``brdf-sls run SPEC`` does, with the
-algorithms written in Python (``kind = "python"``) importable. ``brdf-sls run`` hands specs with
-such algorithms to this command (in ``$BRDF_SLS_PYTHON``, else ``python3``).
+"""``python -m brdf_sls run SPEC``: runs an experiment as ``brdf-sls run SPEC`` does (the same
+plan, progress, files and table), with the algorithms written in Python (``kind = "python"``)
+importable; they run in worker processes, one per thread.
 
-The flags are those of ``brdf-sls run`` that ``brdf_sls.run`` supports; the exit status is 0
-on success, 2 on bad input, 1 on a failure while running, 130 on Ctrl-C.
+The flags are those of ``brdf-sls run``, and ``--no-processes`` (the Python algorithms on
+threads of this interpreter); the exit status is 0 on success, 2 on bad input, 1 on a failure
+while running, 130 on Ctrl-C. ``python -m brdf_sls worker`` is such a worker process: it runs
+the trials its parent (``brdf-sls run`` or ``brdf_sls.run``) sends it.
 """
 
 from __future__ import annotations
@@ -24,13 +26,28 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--limit", type=int, default=None, metavar="N", help="run at most N new trials")
     run.add_argument("--no-plots", action="store_true", help="skip the plots")
     run.add_argument("--kernel", default=None, help="evaluation kernel: auto, avx512, avx2, portable or scalar")
-    # Accepted so that `brdf-sls run`'s flags pass through; this command prints no progress.
-    run.add_argument("--progress", default="auto", help=argparse.SUPPRESS)
+    run.add_argument("--shard", default=None, metavar="K/N", help="run only shard K of N of the trial plan")
+    run.add_argument("--progress", default="auto", help="progress display: auto, bars, plain or quiet")
+    run.add_argument(
+        "--no-processes",
+        action="store_true",
+        help="run the algorithms written in Python on threads of this interpreter (one core at a time) instead of worker processes",
+    )
+    sub.add_parser("worker", help=argparse.SUPPRESS)
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if args.command == "worker":
+        import signal
+
+        # The run that started this worker answers Ctrl-C (it stops its workers).
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        from ._native import worker_main
+
+        worker_main()
+        return 0
     from . import InputError, RunError, run
 
     threads = args.threads
@@ -49,6 +66,9 @@ def main(argv: list[str] | None = None) -> int:
             limit=args.limit,
             plots=not args.no_plots,
             kernel=args.kernel,
+            shard=args.shard,
+            progress=args.progress,
+            processes=not args.no_processes,
         )
     except InputError as e:
         print(f"error: {e}", file=sys.stderr)
@@ -59,15 +79,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("error: interrupted; the trials finished so far are saved, run again to resume", file=sys.stderr)
         return 130
-    for line in result["notes"] + result["warnings"]:
-        print(f"note: {line}", file=sys.stderr)
-    print(
-        f"{result['new_trials']} new trials ({result['resumed']} resumed)"
-        + (f"; {result['missing']} trials still to run (run again to resume)" if result["missing"] else ""),
-        file=sys.stderr,
-    )
+    # The plan, the notes and the count of new trials went to standard error as the run went.
     print(result["table"])
-    print(f"results: {result['out']}")
+    print(result["summary"])
     return 0
 
 

@@ -23,3 +23,15 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     };
     ks * norm * power
 }
+
+/// The lobe's condition ([`super::LobeCondition`]): `|p ln(n.h)|`, the exponent, whose
+/// factors are each good to a few ulps (`p` from its coordinate, the prepared `ln(n.h)`).
+pub(super) fn condition(f: &[f64], u: [f64; 3], v: [f64; 3]) -> f64 {
+    let p = f[1];
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    if p == 0.0 || s[2] <= 0.0 {
+        return 0.0;
+    }
+    let ln_hz = s[2].ln() - 0.5 * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).ln();
+    (p * ln_hz).abs()
+}

@@ -15,6 +15,11 @@ fn pi() -> DD {
 /// Fields: `ks, mx, my, f0, pan` (degrees).
 pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     let (ks, mx, my, f0, pan) = (f[0], f[1], f[2], f[3], f[4]);
+    // The angle between the directions and h, `c = u.h = v.h`, of the directions normalised
+    // ([`super::cos_half`]): the raw directions' `u.h` and `v.h` differ by up to 1e-10
+    // relative near the grazing mirror configuration, and `1 - c` of the raw sum moves by
+    // rounding of the lengths near retro-reflection.
+    let c = super::cos_half(u, v);
     let u: [DD; 3] = u.map(DD::new);
     let v: [DD; 3] = v.map(DD::new);
     let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
@@ -38,13 +43,6 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     };
     let e = -(tan2 * (c2 / (mx * mx) + s2 / (my * my)));
     let d = e.exp() / (pi() * mx * my * cos2 * cos2);
-    // The angle between the directions and h as bbm evaluates it for Ngan's fits, the mean
-    // c = (u.h + v.h) / 2: u.h = v.h for unit vectors, but the f64 directions are unit only to
-    // rounding, and near the grazing mirror configuration (1 + u.v tiny) u.h and v.h then
-    // differ by up to 1e-10 relative; the mean is symmetric in u and v.
-    let uh = u[0] * h[0] + u[1] * h[1] + u[2] * h[2];
-    let vh = v[0] * h[0] + v[1] * h[1] + v[2] * h[2];
-    let c = (uh + vh) / 2.0;
     let q = DD::ONE - c;
     let fresnel = f0 + (DD::ONE - f0) * q * q * q * q * q;
     // G / (4 uz vz); on the horizon (uz = 0 or vz = 0) its limit hz / (2 c max(uz, vz)).
@@ -64,4 +62,29 @@ pub(super) fn lobe(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
         cos / (DD::new(2.0) * c * other)
     };
     ks * d * fresnel * g_over
+}
+
+/// The lobe's condition ([`super::LobeCondition`]): the exponent's, `2 (|s'x| A_x / mx^2 +
+/// |s'y| A_y / my^2)` for the slopes `s = (u + v) / (uz + vz)` rotated by the pan angle
+/// ([`super::rotated_condition`]), plus the magnitude of the prepared logarithms
+/// `|ln(G / (4 uz vz))| + 2 ln(1 + tan^2(theta_h))` (each good to a few ulps of itself).
+pub(super) fn condition(f: &[f64], u: [f64; 3], v: [f64; 3]) -> f64 {
+    let (mx, my, pan) = (f[1], f[2], f[4]);
+    let s = [u[0] + v[0], u[1] + v[1], u[2] + v[2]];
+    if !(u[2] >= 0.0 && v[2] >= 0.0 && s[2] > 0.0) {
+        return 0.0;
+    }
+    let (px, py) = (s[0] / s[2], s[1] / s[2]);
+    let tan2 = px * px + py * py;
+    let (lo, hi) = (u[2].min(v[2]), u[2].max(v[2]));
+    let q = 4.0 * s[2] / (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    let w = (q * lo).min(1.0) / (4.0 * lo * hi);
+    let ln_w = if w.is_finite() {
+        w.ln()
+    } else {
+        (q / (4.0 * hi)).ln()
+    };
+    super::rotated_condition(px, py, pan, 1.0 / (mx * mx), 1.0 / (my * my))
+        + ln_w.abs()
+        + 2.0 * tan2.ln_1p()
 }

@@ -66,3 +66,13 @@ pub(super) fn lobe_gmd(f: &[DD], u: [f64; 3], v: [f64; 3]) -> DD {
     let e = (-((hx / ax) * (hx / ax) + (hy / ay) * (hy / ay)) / hz2).exp();
     ks * hh / (pi() * ax * ay * hz2 * hz2) * e
 }
+
+/// Both lobes' condition ([`super::LobeCondition`]): the exponent's, `2 (|p'x| A_x / ax^2 +
+/// |p'y| A_y / ay^2)` for the slopes `p = (Hx, Hy) / Hz` rotated by the pan angle
+/// ([`super::rotated_condition`]); the normalisations are good to a few ulps.
+pub(super) fn condition(f: &[f64], u: [f64; 3], v: [f64; 3]) -> f64 {
+    let (ax, ay, pan) = (f[1], f[2], f[3]);
+    let hz = (u[2] + v[2]).max(1e-100);
+    let (px, py) = ((u[0] + v[0]) / hz, (u[1] + v[1]) / hz);
+    super::rotated_condition(px, py, pan, 1.0 / (ax * ax), 1.0 / (ay * ay))
+}

@@ -1,10 +1,12 @@
 //! Tests of the results store: round trips, resume, torn lines, locks, packed files.
 
+use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 
-use super::*;
-use sls::{EvalCounts, Stamp, StopReason, TracePoint};
+use brdf_experiment::machine::MachineInfo;
+use brdf_experiment::store::*;
+use sls::{Budget, EvalCounts, Stamp, StopReason, TracePoint, TrialResult};
 
 fn header(fp: &str) -> Header {
     Header {
@@ -21,7 +23,16 @@ fn header(fp: &str) -> Header {
         data_hashes: BTreeMap::new(),
         shard: None,
         best_known: BTreeMap::new(),
+        program: String::new(),
+        schemas: BTreeMap::new(),
     }
+}
+
+/// The line of a trial as the store writes it.
+fn trial_line(r: &TrialRecord) -> String {
+    let mut v = serde_json::to_value(r).unwrap();
+    v["type"] = "trial".into();
+    format!("{v}\n")
 }
 
 fn record(i: u32, best: f64) -> TrialRecord {
@@ -54,6 +65,7 @@ fn record(i: u32, best: f64) -> TrialRecord {
             best_x: vec![1.0, 2.0],
             trace: vec![TracePoint { at, rmse: 0.09 }],
             counters: vec![("restarts".into(), 3)],
+            failure: None,
         },
     }
 }
@@ -68,7 +80,7 @@ fn round_trip_resume_torn_and_mismatch() {
     drop(o);
     // Simulate a kill in the middle of a third line.
     let path = dir.path().join(TRIALS_FILE);
-    let full = encode_line(&path, &Line::Trial(record(2, 0.09))).unwrap();
+    let full = trial_line(&record(2, 0.09));
     let mut f = OpenOptions::new().append(true).open(&path).unwrap();
     f.write_all(&full.as_bytes()[..full.len() / 2]).unwrap();
     drop(f);
@@ -110,7 +122,7 @@ fn corrupt_middle_line_is_an_error() {
     let path = dir.path().join(TRIALS_FILE);
     let mut text = std::fs::read_to_string(&path).unwrap();
     text.push_str("{garbage\n");
-    text.push_str(&encode_line(&path, &Line::Trial(record(1, 0.09))).unwrap());
+    text.push_str(&trial_line(&record(1, 0.09)));
     std::fs::write(&path, text).unwrap();
     let err = read_results(&path).unwrap_err();
     assert!(matches!(err, StoreError::Corrupt { line: 4, .. }), "{err}");
