@@ -1,4 +1,5 @@
-//! Building instances: data sets (synthetic or read from files) and parameter layouts.
+//! Building instances: data sets (synthetic, drawn from a suite or read from files) and
+//! parameter layouts.
 
 use std::cell::Cell;
 use std::path::Path;
@@ -38,6 +39,14 @@ pub enum InstanceError {
         instance: String,
         /// The generator's error.
         source: brdf_model::ParamError,
+    },
+    /// Generating a suite instance failed (sample count, noise or a non-finite value).
+    #[error("instance `{instance}`: {source}")]
+    Suite {
+        /// Instance name.
+        instance: String,
+        /// The generator's error.
+        source: brdf_published::suite::SuiteError,
     },
     /// The data set is empty after filtering.
     #[error("instance `{instance}`: no samples left ({report})")]
@@ -96,6 +105,22 @@ pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
         source,
     })?;
     let (data, filter_report) = match &spec.source {
+        Source::Synthetic {
+            params,
+            samples,
+            sigma,
+            seed,
+            suite: Some(s),
+            ..
+        } => {
+            let d = s
+                .generate(params, *samples, *sigma, *seed)
+                .map_err(|source| InstanceError::Suite {
+                    instance: spec.name.clone(),
+                    source,
+                })?;
+            (d, None)
+        }
         Source::Synthetic {
             params,
             samples,

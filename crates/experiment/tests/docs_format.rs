@@ -179,6 +179,19 @@ fn code_tables() -> BTreeMap<String, BTreeSet<String>> {
         let spec = spec_with("aed", file, &[(section, p)]);
         out.insert(id.to_string(), accepted(id, &spec));
     }
+    // The suite tables: an `[instance.suite]` and a top-level `[[suite]]` with the probe.
+    let head = "seed = 1\ntrials = 1\n[budget]\ncpu_seconds = 1.0\n";
+    let tail = "[[algorithm]]\nkind = \"aed\"\n";
+    let instance_suite = format!(
+        "{head}[[instance]]\nname = \"i\"\ntargets = [0.1]\n[instance.suite]\n\
+         suite = \"ngan-ward\"\nmaterial = \"steel\"\n{probe}\n{tail}"
+    );
+    out.insert(
+        "instance.suite".to_string(),
+        accepted("instance.suite", &instance_suite),
+    );
+    let suite = format!("{head}[[suite]]\nsuite = \"ngan-ward\"\ntargets = [0.1]\n{probe}\n{tail}");
+    out.insert("suite".to_string(), accepted("suite", &suite));
     for kind in KINDS {
         let id = format!("algorithm.{kind}");
         let spec = spec_with(kind, false, &[("algorithm", p)]);

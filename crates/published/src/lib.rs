@@ -2,7 +2,9 @@
 //! the conversions of Ngan et al.'s fits into this crate's parameters: Lafortune
 //! ([`BrdfParams`]), Cook-Torrance ([`NganCookTorrance`]), Blinn-Phong ([`NganBlinnPhong`]),
 //! Ward ([`NganWard`]) and Ashikhmin-Shirley ([`NganAshikhminShirley`]) as [`brdf_model::Params`] of
-//! those families; [`bounds_violations`] lists what falls outside a family's bounds.
+//! those families; [`bounds_violations`] lists what falls outside a family's bounds. The
+//! [`suite`] module turns them into named suites of synthetic instances (`ngan-ward`, ...)
+//! sampled like the Cornell or MERL measurements.
 //!
 //! The files in `experiments/data/published-fits/` come from the BSD-licensed repository
 //! bsdfbenchmark/bbm (folder `fits/`); they hold the fits that Ngan, Durand and Matusik (2005),
@@ -69,6 +71,7 @@ mod cook_torrance;
 mod lafortune;
 mod parse;
 mod report;
+pub mod suite;
 mod ward;
 
 pub use ashikhmin_shirley::NganAshikhminShirley;

@@ -26,6 +26,17 @@ impl Spec {
         for i in &self.instances {
             let src = match &i.source {
                 Source::Synthetic {
+                    samples,
+                    sigma,
+                    seed,
+                    suite: Some(su),
+                    ..
+                } => format!(
+                    "suite {} material {} ({} channel, {} sampling, {samples} samples, noise {} \
+                     relative + {sigma} absolute, seed {seed})",
+                    su.suite, su.material, su.channel, su.sampling, su.noise
+                ),
+                Source::Synthetic {
                     name,
                     samples,
                     sigma,
@@ -58,6 +69,10 @@ impl Spec {
                     String::new()
                 } else {
                     format!(", fixed {:?}", i.model.fixed)
+                } + &if i.model.bounds.is_empty() {
+                    String::new()
+                } else {
+                    format!(", bounds {:?}", i.model.bounds)
                 },
                 i.targets
             ));

@@ -27,12 +27,14 @@ mod labels;
 pub mod limits;
 mod parsed;
 mod plan;
+mod suite;
 mod sweep;
 pub mod tune;
 mod validate;
 
 pub use crate::duration::human_seconds;
 pub use describe::budget_text;
+pub use suite::{DEFAULT_NOISE, SUITE_PREFIX, SuiteSource};
 pub use sweep::format_value;
 
 /// The built-in default experiment. The crate embeds its own copy (`src/spec/default.toml`, so
@@ -239,6 +241,11 @@ pub enum Source {
         sigma: f64,
         /// Instance seed.
         seed: u64,
+        /// The suite and material it is drawn from, with its sampling and relative noise
+        /// (`[instance.suite]`, `[[suite]]`; `sigma` is then the absolute part of the noise).
+        /// `None` for `[instance.synthetic]`, and then left out of the canonical form.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        suite: Option<SuiteSource>,
     },
     /// A data file.
     File {
@@ -579,7 +586,10 @@ impl Spec {
         let cx = validate::Ctx { text, origin };
         let budget = validate::budget(&cx, parsed.budget)?;
         validate::counts(&cx, parsed.trials, parsed.threads)?;
-        let instances = validate::instances(&cx, parsed.instances, base_dir)?;
+        let mut raw_instances = parsed.instances;
+        raw_instances
+            .extend(suite::expand(text, parsed.suites).map_err(|(l, m)| cx.invalid(l, m))?);
+        let instances = validate::instances(&cx, raw_instances, base_dir)?;
         let configurations = sweep::configurations(&cx, parsed.algorithms)?;
         validate::options(&cx, &parsed.plots, &parsed.stats)?;
         validate::plan_size(&cx, parsed.trials, instances.len(), configurations.len())?;

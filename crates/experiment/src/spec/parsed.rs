@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use brdf_io::Channel;
 use brdf_model::{ExponentCoord, Kernel, LobeKind};
 use serde::Deserialize;
 use toml::Spanned;
@@ -28,8 +29,11 @@ pub(super) struct ParsedSpec {
     #[serde(default)]
     pub(super) kernel: Kernel,
     pub(super) budget: Spanned<ParsedBudget>,
-    #[serde(rename = "instance")]
+    #[serde(rename = "instance", default)]
     pub(super) instances: Vec<ParsedInstance>,
+    /// `[[suite]]` tables, each expanded into instances (see `super::suite`).
+    #[serde(rename = "suite", default)]
+    pub(super) suites: Vec<Spanned<ParsedSuite>>,
     #[serde(rename = "algorithm")]
     pub(super) algorithms: Vec<Spanned<toml::Table>>,
     #[serde(default)]
@@ -56,6 +60,9 @@ pub(super) struct ParsedInstance {
     pub(super) targets: Spanned<Vec<toml::Value>>,
     pub(super) synthetic: Option<ParsedSynthetic>,
     pub(super) file: Option<Spanned<FileSpec>>,
+    /// A material of a named suite (see `super::suite`).
+    #[serde(default)]
+    pub(super) suite: Option<Spanned<ParsedSuiteRef>>,
     #[serde(default)]
     pub(super) model: Option<Spanned<ParsedModel>>,
 }
@@ -79,7 +86,7 @@ fn default_instance_seed() -> u64 {
     1
 }
 
-#[derive(Deserialize, Default)]
+#[derive(Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ParsedModel {
     pub(super) family: Option<Spanned<String>>,
@@ -90,6 +97,53 @@ pub(super) struct ParsedModel {
     pub(super) starts: Option<sls::StartDist>,
     pub(super) fixed: Option<Spanned<BTreeMap<String, f64>>>,
     pub(super) bounds: Option<Spanned<BTreeMap<String, Vec<f64>>>>,
+}
+
+/// The draw of a suite instance as written: `[instance.suite]`, whose keys `[[suite]]` shares
+/// (see `super::suite`).
+#[derive(Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ParsedSuiteRef {
+    pub(super) suite: Spanned<String>,
+    pub(super) material: Spanned<String>,
+    #[serde(default)]
+    pub(super) channel: Option<Channel>,
+    #[serde(default)]
+    pub(super) sampling: Option<Spanned<String>>,
+    #[serde(default)]
+    pub(super) samples: Option<Spanned<usize>>,
+    #[serde(default)]
+    pub(super) noise: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) sigma: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) seed: Option<u64>,
+}
+
+/// A top-level `[[suite]]` table as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ParsedSuite {
+    pub(super) suite: Spanned<String>,
+    #[serde(default)]
+    pub(super) materials: Option<Spanned<toml::Value>>,
+    #[serde(default)]
+    pub(super) prefix: Option<String>,
+    pub(super) targets: Spanned<Vec<toml::Value>>,
+    #[serde(default)]
+    pub(super) channel: Option<Channel>,
+    #[serde(default)]
+    pub(super) sampling: Option<Spanned<String>>,
+    #[serde(default)]
+    pub(super) samples: Option<Spanned<usize>>,
+    #[serde(default)]
+    pub(super) noise: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) sigma: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) seed: Option<u64>,
+    #[serde(default)]
+    pub(super) model: Option<Spanned<ParsedModel>>,
 }
 
 pub(super) fn line_of(source: &str, offset: usize) -> usize {

@@ -94,13 +94,23 @@ pub(super) fn instances(
     base_dir: &Path,
 ) -> Result<Vec<InstanceSpec>, SpecError> {
     if raw.is_empty() {
-        return Err(cx.invalid(None, "at least one [[instance]] is needed".into()));
+        return Err(cx.invalid(
+            None,
+            "at least one [[instance]] or [[suite]] is needed".into(),
+        ));
     }
     let mut out: Vec<InstanceSpec> = Vec::new();
     for ri in raw {
+        let line = cx.line(&ri.name);
         let inst = instance(cx, ri, base_dir)?;
         if out.iter().any(|i| i.name == inst.name) {
-            return Err(cx.invalid(None, format!("instance `{}`: duplicate name", inst.name)));
+            return Err(cx.invalid(
+                line,
+                format!(
+                    "instance `{}`: duplicate name (a [[suite]] names its instances by material;                      its `prefix` keeps them apart)",
+                    inst.name
+                ),
+            ));
         }
         out.push(inst);
     }
@@ -117,14 +127,17 @@ fn instance(cx: &Ctx<'_>, ri: ParsedInstance, base_dir: &Path) -> Result<Instanc
         ));
     }
     let (targets, relative_targets) = targets(cx, &name, ri.targets)?;
-    let source = match (ri.synthetic, ri.file) {
-        (Some(s), None) => synthetic(cx, &name, line, s)?,
-        (None, Some(f)) => file(cx, &name, f, base_dir)?,
+    let source = match (ri.synthetic, ri.file, ri.suite) {
+        (Some(s), None, None) => synthetic(cx, &name, line, s)?,
+        (None, Some(f), None) => file(cx, &name, f, base_dir)?,
+        (None, None, Some(s)) => {
+            super::suite::source(cx.text, &name, s).map_err(|(l, m)| cx.invalid(l, m))?
+        }
         _ => {
             return Err(cx.invalid(
                 line,
                 format!(
-                    "instance `{name}`: needs exactly one of [instance.synthetic] or [instance.file]"
+                    "instance `{name}`: needs exactly one of [instance.synthetic], [instance.file] or [instance.suite]"
                 ),
             ));
         }
@@ -259,6 +272,7 @@ fn synthetic(
         samples: s.samples,
         sigma: s.sigma,
         seed: s.seed,
+        suite: None,
     })
 }
 
@@ -317,7 +331,11 @@ fn model(
             Source::File { .. } => brdf_model::FamilyRef::lafortune(),
         },
     };
-    let default_kind = if family.kinds().contains(&LobeKind::Anisotropic) {
+    // A suite's materials are published as one isotropic lobe: fitted so by default.
+    let from_suite = matches!(source, Source::Synthetic { suite: Some(_), .. });
+    let default_kind = if from_suite && family.kinds().contains(&LobeKind::Isotropic) {
+        LobeKind::Isotropic
+    } else if family.kinds().contains(&LobeKind::Anisotropic) {
         LobeKind::Anisotropic
     } else {
         family.kinds()[0]
@@ -365,6 +383,9 @@ fn model(
             }
         }
     }
+    let at = bounds_line.or(mline).or(line);
+    super::suite::widen(cx.text, name, at, source, &family, &mut bounds)
+        .map_err(|(l, m)| cx.invalid(l, m))?;
     let fixed = rm.fixed.map(Spanned::into_inner).unwrap_or_default();
     if let Some((k, v)) = fixed.iter().find(|(_, v)| !v.is_finite()) {
         return Err(cx.invalid(
@@ -418,8 +439,9 @@ fn model(
         return Err(cx.invalid(
             line,
             format!(
-                "instance `{name}`: `synthetic.samples` must be at least the model's free \
+                "instance `{name}`: `{}.samples` must be at least the model's free \
                  parameters + 1 ({}) for a fit to be determined, found {samples}",
+                if from_suite { "suite" } else { "synthetic" },
                 layout.dim() + 1
             ),
         ));

@@ -101,7 +101,8 @@ pub enum Command {
 /// `brdf-sls run`.
 #[derive(Args)]
 pub struct RunArgs {
-    /// Experiment spec (TOML). Omit to run the built-in default experiment.
+    /// Experiment spec (TOML), or `suite:NAME` for a suite's built-in experiment (`suite:`
+    /// alone lists the suites). Omit to run the built-in default experiment.
     pub spec: Option<PathBuf>,
     /// Output directory (default: runs/<spec file stem>/).
     #[arg(long)]
@@ -136,7 +137,8 @@ pub struct RunArgs {
 /// `brdf-sls check`.
 #[derive(Args)]
 pub struct CheckArgs {
-    /// Experiment spec (TOML).
+    /// Experiment spec (TOML), or `suite:NAME` for a suite's built-in experiment (`suite:`
+    /// alone lists the suites).
     pub spec: PathBuf,
     /// Threads to estimate wall time for (default: $BRDF_SLS_THREADS, else the spec's, else
     /// all CPUs).

@@ -10,17 +10,31 @@ use brdf_model::{DataSet, Evaluator, FilterReport, Params};
 use super::{input_error, note};
 use crate::cli::DataArgs;
 
-/// Reads and validates a spec file.
-pub fn load_spec(path: &Path) -> Result<Spec> {
-    Ok(Spec::from_file(path)?)
+/// The suite a spec argument names (`suite:NAME`), if it does.
+fn suite_name(path: &Path) -> Option<&str> {
+    path.to_str()?
+        .strip_prefix(brdf_experiment::spec::SUITE_PREFIX)
 }
 
-/// `runs/<spec file stem>/`, or `runs/default/` for the built-in experiment.
+/// Reads and validates a spec file, or builds a suite's built-in experiment for `suite:NAME`
+/// (an unknown name is an error listing the suites).
+pub fn load_spec(path: &Path) -> Result<Spec> {
+    match suite_name(path) {
+        Some(name) => Ok(Spec::suite_experiment(name)?),
+        None => Ok(Spec::from_file(path)?),
+    }
+}
+
+/// `runs/<spec file stem>/`, `runs/suite-NAME/` for `suite:NAME`, or `runs/default/` for the
+/// built-in experiment.
 pub fn default_out(spec: Option<&Path>) -> PathBuf {
-    let stem = spec
-        .and_then(|p| p.file_stem())
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "default".into());
+    let stem = match spec.and_then(suite_name) {
+        Some(name) => format!("suite-{name}"),
+        None => spec
+            .and_then(|p| p.file_stem())
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "default".into()),
+    };
     PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR).join(stem)
 }
 
@@ -94,4 +108,18 @@ pub fn refuse_unrunnable(
         config.label,
         config.algorithm.kind_name()
     )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_out_names_suites_and_files() {
+        let runs = PathBuf::from(brdf_experiment::DEFAULT_RUNS_DIR);
+        let out = |p: &str| default_out(Some(Path::new(p)));
+        assert_eq!(out("suite:ngan-ward"), runs.join("suite-ngan-ward"));
+        assert_eq!(out("experiments/fig16.toml"), runs.join("fig16"));
+        assert_eq!(default_out(None), runs.join("default"));
+    }
 }
