@@ -83,6 +83,14 @@ impl Surface {
             Surface::Python => "algorithm/settings",
         }
     }
+
+    /// The argument naming the algorithm (`--algorithm`, or the positional `algorithm`).
+    fn algorithm_kind_arg(self) -> &'static str {
+        match self {
+            Surface::Cli => "--algorithm",
+            Surface::Python => "the positional `algorithm`",
+        }
+    }
 }
 
 /// What one fit needs besides the data.
@@ -181,7 +189,22 @@ pub fn algorithm_config(
 ) -> Result<AlgorithmConfig, FitError> {
     let mut table = toml::Table::new();
     table.insert("kind".into(), toml::Value::String(kind.to_string()));
-    table.extend(settings);
+    for (name, value) in settings {
+        if name == "kind" {
+            return Err(input(format!(
+                "{}: the algorithm is {}, not a setting",
+                surface.arg("set", format!("kind={value}")),
+                surface.algorithm_kind_arg()
+            )));
+        }
+        if let Some(first) = table.get(&name) {
+            return Err(input(format!(
+                "{}: `{name}` given twice ({first} and {value}); set each setting once",
+                surface.algorithm_args()
+            )));
+        }
+        table.insert(name, value);
+    }
     let algorithm: AlgorithmConfig =
         toml::Value::Table(table)
             .try_into()
@@ -192,12 +215,23 @@ pub fn algorithm_config(
     Ok(algorithm)
 }
 
-/// Checks a fit's budget and target (the algorithm and model are checked when built).
+/// Checks a fit's budget and target (the algorithm and model are checked when built). The
+/// budget is held to a spec's limit ([`MAX_CPU_SECONDS`](brdf_experiment::spec::limits::MAX_CPU_SECONDS)):
+/// beyond it a fit would run until killed.
 pub fn check_budget(surface: Surface, cpu_seconds: f64, target: f64) -> Result<(), FitError> {
     if !(cpu_seconds.is_finite() && cpu_seconds > 0.0) {
         return Err(input(format!(
             "{}: expected a positive number",
             surface.arg("cpu-seconds", cpu_seconds)
+        )));
+    }
+    let max = brdf_experiment::spec::limits::MAX_CPU_SECONDS;
+    if cpu_seconds > max {
+        // `{:e}`: a huge budget written out in full would be hundreds of digits.
+        return Err(input(format!(
+            "{}: at most {max:e} CPU seconds (MAX_CPU_SECONDS, the limit of a spec's \
+             `budget.cpu_seconds`)",
+            surface.arg("cpu-seconds", format!("{cpu_seconds:e}"))
         )));
     }
     if !(target.is_finite() && target >= 0.0) {
@@ -221,6 +255,18 @@ pub fn fit(
         return Err(input("the data set has no samples"));
     }
     let layout = request.model.layout().map_err(|e| input(e.to_string()))?;
+    if let Some(why) = brdf_experiment::spec::nothing_to_fit(&layout) {
+        return Err(input(why));
+    }
+    if data.len() <= layout.dim() {
+        return Err(input(format!(
+            "the data set has {} sample(s); a fit of {} free parameters needs at least {} (the \
+             free parameters + 1, as a spec's `synthetic.samples`) to be determined",
+            data.len(),
+            layout.dim(),
+            layout.dim() + 1
+        )));
+    }
     let objective = sls::BrdfObjective::with_kernel(data.clone(), layout.clone(), request.kernel)
         .map_err(|e| input(e.to_string()))?;
     let result = match request.progress {
@@ -539,6 +585,76 @@ mod tests {
         let limits = sls::DescentLimits::default();
         cx.descend(&mut x, sls::Rows::Full, limits).unwrap();
         (before - cx.evaluate(&x).unwrap()) / before
+    }
+
+    /// Issue 45, item 11: a repeated setting, a budget above the spec's limit and fewer
+    /// samples than the free parameters + 1 were accepted (the last two ran until killed or
+    /// fitted an undetermined model).
+    #[test]
+    fn repeated_settings_endless_budgets_and_tiny_data_are_refused() {
+        let phi = |v: f64| ("phi".to_string(), toml::Value::Float(v));
+        let e = algorithm_config(Surface::Cli, "aed", [phi(1.4), phi(2.0)]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--algorithm/--set: `phi` given twice (1.4 and 2.0); set each setting once"
+        );
+        let kind = ("kind".to_string(), toml::Value::String("rpls".into()));
+        let e = algorithm_config(Surface::Cli, "aed", [kind]).unwrap_err();
+        assert!(e.to_string().starts_with("--set kind="), "{e}");
+        let e = check_budget(Surface::Cli, 1e300, 0.0).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--cpu-seconds 1e300: at most 1e7 CPU seconds (MAX_CPU_SECONDS, the limit of a \
+             spec's `budget.cpu_seconds`)"
+        );
+        assert!(check_budget(Surface::Cli, 1e7, 0.0).is_ok());
+        let p = brdf_model::named_params("tuning").unwrap();
+        let mut r = request(1);
+        r.cpu_seconds = 0.1;
+        for (n, ok) in [(1, false), (6, false), (7, true)] {
+            let data = Arc::new(brdf_model::synthetic(&p, n, 0.0, 4));
+            match fit(data, &r, None) {
+                Ok(_) => assert!(ok, "{n} samples accepted"),
+                Err(e) => {
+                    assert!(!ok, "{n} samples: {e}");
+                    assert!(e.is_input_error());
+                    assert!(
+                        e.to_string().contains(&format!(
+                            "has {n} sample(s); a fit of 6 free parameters needs at least 7"
+                        )),
+                        "{e}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Issue 45, item 12: a model with every parameter fixed ran a search that evaluated no
+    /// candidate and exited 1 saying the data values were too large.
+    #[test]
+    fn nothing_free_is_refused_up_front() {
+        let mut r = request(1);
+        r.model = model_spec(
+            Surface::Cli,
+            FamilyRef::lafortune(),
+            1,
+            LobeKind::Isotropic,
+            ExponentCoord::Log1p,
+            [
+                ("kd".to_string(), 0.1),
+                ("lobe1.cxy".to_string(), -1.0),
+                ("lobe1.cz".to_string(), 1.0),
+                ("lobe1.n".to_string(), 20.0),
+            ],
+        )
+        .unwrap();
+        let e = fit(data(), &r, None).unwrap_err();
+        assert!(e.is_input_error(), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("every parameter is fixed (all 4): nothing to fit"),
+            "{e}"
+        );
     }
 
     #[test]
