@@ -4,8 +4,9 @@
 //! # Procedure (deterministic)
 //!
 //! Full-data bounded Levenberg-Marquardt descents with PORT's limits (150 iterations, 200
-//! evaluations), each repeated from its own result until it improves the RMSE by less than
-//! 1e-12 relative or [`POLISH_ROUNDS`] descents were made:
+//! evaluations) and the searches' solver settings with scaled Givens rotations, each repeated
+//! from its own result until it improves the RMSE by less than 1e-12 relative or
+//! [`POLISH_ROUNDS`] descents were made:
 //! - for a synthetic instance whose model is of the generating parameters' family, one from
 //!   the generating parameters (the truth, projected into the model's box: lobes beyond the
 //!   model's count are dropped);
@@ -21,7 +22,8 @@
 //!   isotropic lobes, and three isotropic lobes at 450 nm at 0.006958, above two lobes'
 //!   0.006618).
 //!
-//! The best of all is descended from once more (the polish), and the record says which start
+//! The best of all is polished with the solver's robust preset until the solver says it is at
+//! rest ([`crate::polish`]), and the record says which start
 //! led to it and what was tried ([`BestKnown::provenance`]). The best-known RMSE is the lowest
 //! full-data RMSE seen. A trial that goes lower is reported by `run` and `stats`
 //! ([`below_best_known`]). Everything is seeded and nothing
@@ -84,25 +86,15 @@ fn compute_nested(spec: &InstanceSpec, built: &BuiltInstance, max_nested: usize)
     }
 }
 
-/// Descends from `x` until a descent gains less than 1e-12 relative; returns the RMSE.
+/// Descends from `x` until a descent gains less than 1e-12 relative, at most
+/// [`POLISH_ROUNDS`] times; returns the RMSE.
 pub(crate) fn polish<O: sls::Objective>(cx: &mut TrialContext<'_, O>, x: &mut [f64]) -> f64 {
-    polish_counting(cx, x).0
-}
-
-/// Descends from `x` until a descent gains less than 1e-12 relative; returns the RMSE and the
-/// number of descents made (what `brdf-fit` polishes a fit with).
-pub fn polish_counting<O: sls::Objective>(
-    cx: &mut TrialContext<'_, O>,
-    x: &mut [f64],
-) -> (f64, usize) {
     let mut last = f64::INFINITY;
-    let mut descents = 0;
     for _ in 0..POLISH_ROUNDS {
         // Neither call can stop: there is no target, no clock and no real evaluation limit.
         if cx.descend(x, Rows::Full, DescentLimits::default()).is_err() {
             break;
         }
-        descents += 1;
         let rmse = cx.evaluate(x).unwrap_or(f64::INFINITY);
         // NaN (both infinite) counts as no gain.
         let improving = last - rmse > 1e-12 * rmse;
@@ -111,7 +103,7 @@ pub fn polish_counting<O: sls::Objective>(
             break;
         }
     }
-    (last, descents)
+    last
 }
 
 /// Resolves every instance's best-known RMSE (from `known` when recorded there, else computed)

@@ -25,6 +25,8 @@
 //!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`].
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
+//! - [`polish`]: full-data descents with the solver's robust preset until it says the point
+//!   is at rest (the end of a fit, the best-known RMSE's last step).
 //! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
 //! - [`python_kind`]: `kind = "python"`, algorithms written in Python, as specs and results
 //!   name them.
@@ -55,6 +57,7 @@ pub mod instance;
 pub mod machine;
 pub mod merge;
 pub mod params;
+pub mod polish;
 pub mod prepare;
 pub mod progress;
 pub mod python_kind;

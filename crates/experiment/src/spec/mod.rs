@@ -318,6 +318,20 @@ impl ModelSpec {
     }
 }
 
+/// Why a model of `layout` cannot be fitted: every parameter is fixed, so a search has nothing
+/// to move and no trial would evaluate a candidate (`None` when a parameter is free). `fit`,
+/// `check` and `run` refuse such a model up front with these words; `brdf-sls eval` gives the
+/// RMSE of given parameters.
+pub fn nothing_to_fit(layout: &brdf_model::Layout) -> Option<String> {
+    (layout.dim() == 0).then(|| {
+        format!(
+            "every parameter is fixed (all {}): nothing to fit; free at least one (the RMSE of \
+             given parameters is `brdf-sls eval`'s)",
+            layout.all_names().len()
+        )
+    })
+}
+
 fn is_native_starts(s: &sls::StartDist) -> bool {
     *s == sls::StartDist::Coordinate
 }

@@ -372,3 +372,19 @@ fn sizes_and_values_are_checked_before_any_work() {
         assert!(started.elapsed().as_secs_f64() < 1.0, "{needle}: too slow");
     }
 }
+
+/// A model whose every parameter is fixed has nothing to fit: a trial would evaluate no
+/// candidate and store no RMSE. `check` and `run` refuse it here, naming the `fixed` line.
+#[test]
+fn a_model_with_nothing_free_is_refused() {
+    let fixed = "[instance.model]\nkind = \"isotropic\"\nfixed = { kd = 0.1, \"lobe1.cxy\" = -1.0, \
+                 \"lobe1.cz\" = 1.0, \"lobe1.n\" = 20.0 }";
+    let e = err(&MINI.replace("sigma = 0.1", &format!("sigma = 0.1\n{fixed}")));
+    assert!(
+        e.contains("every parameter is fixed (all 4): nothing to fit") && e.contains("t.toml:18"),
+        "{e}"
+    );
+    // One parameter left free is a fit.
+    let one_free = fixed.replace("kd = 0.1, ", "");
+    assert!(parse(&MINI.replace("sigma = 0.1", &format!("sigma = 0.1\n{one_free}"))).is_ok());
+}

@@ -124,6 +124,23 @@ impl CostRule {
                 self.cutoff
             ));
         }
+        // The spec's own limits on a trial's budget: above them a cutoff is a typo, and a trial
+        // given it would run until killed.
+        let max = match self.kind {
+            CostKind::Time | CostKind::Rmse => super::limits::MAX_CPU_SECONDS,
+            CostKind::Evaluations => u64::MAX as f64,
+        };
+        if self.cutoff > max {
+            return Err(format!(
+                "cutoff must be at most {max:e} {} (the limit of `budget.{}` in a spec), found {}",
+                self.kind.cutoff_unit(),
+                match self.kind {
+                    CostKind::Evaluations => "evaluations",
+                    CostKind::Time | CostKind::Rmse => "cpu_seconds",
+                },
+                self.cutoff
+            ));
+        }
         if !(self.penalty.is_finite() && self.penalty >= 1.0) {
             return Err(format!(
                 "penalty must be a number >= 1 (10 gives PAR10), found {}",
@@ -677,6 +694,36 @@ mod tests {
             .validate()
             .is_err()
         );
+    }
+
+    /// A cutoff above the spec's budget limits would run a trial until killed.
+    #[test]
+    fn a_cutoff_above_the_spec_limits_is_refused_naming_it() {
+        let time = CostRule {
+            kind: CostKind::Time,
+            cutoff: 1e300,
+            penalty: 10.0,
+        };
+        let e = time.validate().unwrap_err();
+        assert!(
+            e.contains("at most 1e7 CPU seconds") && e.contains("budget.cpu_seconds"),
+            "{e}"
+        );
+        assert!(
+            CostRule {
+                cutoff: 1e7,
+                ..time
+            }
+            .validate()
+            .is_ok()
+        );
+        let ev = CostRule {
+            kind: CostKind::Evaluations,
+            cutoff: 1e300,
+            penalty: 10.0,
+        };
+        let e = ev.validate().unwrap_err();
+        assert!(e.contains("budget.evaluations"), "{e}");
     }
 
     #[test]

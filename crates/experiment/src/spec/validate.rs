@@ -421,6 +421,12 @@ fn model(
             format!("instance `{name}`: model: {e}"),
         )
     })?;
+    if let Some(why) = super::nothing_to_fit(&layout) {
+        return Err(cx.invalid(
+            fixed_line.or(mline).or(line),
+            format!("instance `{name}`: model: {why}"),
+        ));
+    }
     if let Source::Synthetic { samples, .. } = source
         && samples.saturating_mul(layout.dim()) > MAX_SAMPLE_PARAMS
     {

@@ -69,11 +69,21 @@ pub fn fit(a: FitArgs) -> Result<()> {
     match &fit.polish {
         Some(p) => say!(
             "polish: the search's best RMSE {:.17} became {:.17} after {} full-data \
-             descent(s) ({:.4} wall s)",
+             descent(s) with the solver's robust preset ({:.4} wall s); the last ended with {}, {}",
             p.rmse_before,
             p.rmse_after,
             p.descents,
-            p.wall_seconds
+            p.wall_seconds,
+            p.rest.end_text(),
+            if p.rest.at_rest {
+                "at rest".to_string()
+            } else {
+                format!(
+                    "NOT at rest after {} descents (the limit): refit from the JSON below, or \
+                     check with --diagnose",
+                    p.descents
+                )
+            }
         ),
         None => say!("polish: off (--no-polish): the search's best, not necessarily at rest"),
     }
