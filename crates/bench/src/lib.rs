@@ -7,6 +7,8 @@
 //! files.
 #![warn(missing_docs)]
 
+mod families;
+
 use std::hint::black_box;
 use std::path::Path;
 use std::sync::Arc;
@@ -75,6 +77,9 @@ pub struct BenchReport {
     flops_per_value: f64,
     kernels: Vec<KernelRow>,
     searches: Vec<SearchRow>,
+    /// The model families' rows (absent from bench.json files written before they existed).
+    #[serde(default)]
+    families: Vec<families::FamilyRow>,
     goals: Vec<Goal>,
     seeds: u64,
     cutoff_cpu_seconds: f64,
@@ -148,7 +153,10 @@ pub fn measure(a: &Settings, note: &mut dyn FnMut(&str)) -> Result<BenchReport> 
         a.seeds, a.cutoff
     ));
     let searches = search_rows(a.seeds, a.cutoff, a.progress)?;
-    let goals = goals(&kernels, &searches);
+    note("measuring the model families ...");
+    let families = families::family_rows(a.seeds, a.cutoff)?;
+    let mut goals = goals(&kernels, &searches);
+    goals.extend(families::family_goals(&families));
     let load_after = load_average();
     if let Some(w) = load_warning("after", load_after, cores) {
         note(&w);
@@ -161,6 +169,7 @@ pub fn measure(a: &Settings, note: &mut dyn FnMut(&str)) -> Result<BenchReport> 
         flops_per_value: FLOPS_PER_VALUE,
         kernels,
         searches,
+        families,
         goals,
         seeds: a.seeds,
         cutoff_cpu_seconds: a.cutoff,
@@ -532,6 +541,11 @@ fn markdown(r: &BenchReport) -> String {
             opt(x.ns_per_sample_evaluation, 2)
         ));
     }
+    s.push_str(&families::markdown(
+        &r.families,
+        r.seeds,
+        r.cutoff_cpu_seconds,
+    ));
     s.push_str("\n| goal | measured | limit | met |\n|---|---|---|---|\n");
     for g in &r.goals {
         s.push_str(&format!(
@@ -689,6 +703,18 @@ fn page(
         &rows,
     ));
     body.push_str(&section("searches", 2, "Searches", &s));
+    if !r.families.is_empty() {
+        let mut f = para(
+            "",
+            &capitalised(&families::method(r.seeds, r.cutoff_cpu_seconds)),
+        );
+        let rows: Vec<Vec<String>> = families::cells(&r.families)
+            .iter()
+            .map(|row| row.iter().map(|c| escape(c)).collect())
+            .collect();
+        f.push_str(&table("families", &families::HEADER, &rows));
+        body.push_str(&section("families", 2, "Model families", &f));
+    }
     let rows: Vec<Vec<String>> = r
         .goals
         .iter()
@@ -751,6 +777,16 @@ mod tests {
                     })
                 })
                 .collect(),
+            families: vec![families::FamilyRow {
+                family: "<ggx>".into(),
+                kind: "isotropic".into(),
+                parameters: 4,
+                kernel: "avx2".into(),
+                values_ns: 2.5,
+                jacobian_ns: 7.0,
+                rpls_ns: Some(5.0),
+                aed_ns: None,
+            }],
             goals: Vec::new(),
             seeds: 1,
             cutoff_cpu_seconds: 0.5,
@@ -772,6 +808,7 @@ mod tests {
         assert!(html.contains("Test &lt;CPU&gt; &amp; co"));
         assert!(html.contains("0.50 0.40 0.30 before, 3.00 1.00 0.50 after, on 2 core(s)"));
         assert!(html.contains("load &lt;high&gt;"));
+        assert!(html.contains("&lt;ggx&gt;") && html.contains("Model families"));
         // Rewritten from bench.json: the same rows, the machine said to be unrecorded.
         let back = read_json(&serde_json::to_string(&r).unwrap()).unwrap();
         let again = page(&back, None, 0);
