@@ -60,8 +60,9 @@ impl Spec {
                 .map(|k| format!("{k:?}").to_lowercase())
                 .collect();
             s.push_str(&format!(
-                "  {}: {src}; model [{}], exponent {:?}, starts {}{}; targets {:?}\n",
+                "  {}: {src}; model {} [{}], exponent {:?}, starts {}{}; targets {:?}\n",
                 i.name,
+                i.model.family.name(),
                 kinds.join(", "),
                 i.model.exponent,
                 i.model.starts.resolve(i.model.exponent).name(),
