@@ -88,6 +88,14 @@ pub fn fit(a: FitArgs) -> Result<()> {
         None => say!("polish: off (--no-polish): the search's best, not necessarily at rest"),
     }
     say!("fitted parameters:");
+    // Lafortune's names fit in 10 columns; other families' may be longer (`lobe12.alpha`).
+    let width = layout
+        .all_names()
+        .iter()
+        .map(|n| n.len())
+        .max()
+        .unwrap_or(0)
+        .max(10);
     for name in layout.all_names() {
         let v = fit.params.get(name).unwrap_or(f64::NAN);
         let tag = if layout.fixed_value(name).is_some() {
@@ -95,7 +103,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         } else {
             ""
         };
-        say!("  {name:<10} {v:>22.17}{tag}");
+        say!("  {name:<width$} {v:>22.17}{tag}");
     }
     let json = serde_json::to_string(&fit.params).context("serialising the parameters")?;
     say!("json: {json}");
