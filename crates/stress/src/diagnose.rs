@@ -313,7 +313,13 @@ pub fn diagnose(
         condition_number,
         &norms,
     );
-    warnings.extend(checks::stationarity(rmse, refit_rmse, predicted_reduction));
+    let data_rms = (data.values().iter().map(|y| y * y).sum::<f64>() / m.max(1) as f64).sqrt();
+    warnings.extend(checks::stationarity(
+        rmse,
+        data_rms,
+        refit_rmse,
+        predicted_reduction,
+    ));
     let bootstrap = (options.bootstrap > 0).then(|| bootstrap(layout, &samples, x, options));
     if let Some(b) = &bootstrap {
         warnings.extend(checks::bootstrap_width(

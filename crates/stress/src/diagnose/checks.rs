@@ -14,6 +14,10 @@ pub const REFIT_GAIN_TOL: f64 = 1e-9;
 /// a gradient that is not zero: a converged descent leaves about 1e-10 (PORT's relative
 /// function convergence tolerance) or less.
 pub const GAUSS_NEWTON_TOL: f64 = 1e-8;
+/// An RMSE at most this fraction of the data values' RMS fits the data to round-off: the
+/// relative gains and reductions of the stationarity checks are then ratios of round-off and
+/// say nothing (noise-free synthetic data fitted exactly gave "6e-1 relative reduction").
+pub const EXACT_FIT: f64 = 1e-9;
 /// Bootstrap intervals more than this many times wider than the standard-error intervals
 /// (+-1.96 standard errors) are flagged.
 pub const WIDE_BOOTSTRAP: f64 = 5.0;
@@ -73,12 +77,17 @@ pub(super) fn gauss_newton_reduction(
 }
 
 /// A warning when the point is not a local minimum: a refit from it went lower, or a
-/// Gauss-Newton step predicts a reduction.
+/// Gauss-Newton step predicts a reduction. None where the point fits data of RMS `data_rms`
+/// exactly (RMSE at most [`EXACT_FIT`] of it).
 pub(super) fn stationarity(
     rmse: f64,
+    data_rms: f64,
     refit_rmse: Option<f64>,
     predicted_reduction: f64,
 ) -> Option<String> {
+    if rmse <= EXACT_FIT * data_rms {
+        return None;
+    }
     let gain = refit_rmse.map_or(0.0, |r| (rmse - r) / rmse);
     if !(gain > REFIT_GAIN_TOL || predicted_reduction > GAUSS_NEWTON_TOL) {
         return None;
@@ -267,6 +276,19 @@ pub(super) fn warnings(
 mod tests {
     use super::*;
     use brdf_model::{BrdfParams, Lobe};
+
+    /// An exact fit's relative measures are round-off ratios: no warning; the same ratios at
+    /// an RMSE above round-off warn.
+    #[test]
+    fn an_exact_fit_is_not_called_a_non_minimum() {
+        assert_eq!(stationarity(3e-15, 0.3, Some(2e-15), 0.6), None);
+        let w = stationarity(3e-3, 0.3, Some(2e-3), 0.6).unwrap();
+        assert!(
+            w.contains("not a local minimum") && w.contains("6.0e-1"),
+            "{w}"
+        );
+        assert_eq!(stationarity(3e-3, 0.3, Some(3e-3), 0.0), None);
+    }
 
     /// A narrow second lobe carries few samples; intervals 10 times the standard-error ones
     /// are flagged and that lobe is named, intervals of 2 times are not.
