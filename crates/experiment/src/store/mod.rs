@@ -30,6 +30,9 @@
 //! Packed results: the repository commits results as `trials.jsonl.gz`. [`read_results`] reads
 //! the packed file when the plain one is absent, and [`ResultStore::open`] unpacks it into
 //! `trials.jsonl` (keeping the packed copy) before resuming, so nobody has to unpack by hand.
+//! When both exist, the plain file is the results if it starts with the packed file's complete
+//! lines (a torn last line of the packed file is not results: the resume cut it off); otherwise
+//! every command refuses the folder ([`StoreError::BothPresent`]).
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -484,7 +487,11 @@ pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
     if !(plain.exists() && packed.exists()) {
         return Ok(results_file(dir));
     }
-    let unpacked = read_maybe_packed(&packed)?;
+    let mut unpacked = read_maybe_packed(&packed)?;
+    // Only the packed file's complete lines are results: a `run` on a packed file with a torn
+    // last line unpacks it and cuts that line off before appending (issue 45, item 4).
+    let good = complete_prefix_len(&unpacked);
+    unpacked.truncate(good);
     let mut start = Vec::new();
     crate::input_file::open_regular(&plain, MAX_RESULTS_BYTES, RESULTS)
         .and_then(|f| f.take(unpacked.len() as u64).read_to_end(&mut start))
@@ -495,6 +502,27 @@ pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
         Err(StoreError::BothPresent {
             dir: dir.to_path_buf(),
         })
+    }
+}
+
+/// Length of the part of a results file a resume keeps: everything before a torn last line
+/// (bytes after the last newline, or a last line that does not parse), as [`parse_contents`]
+/// reports it in [`Contents::good_len`].
+fn complete_prefix_len(bytes: &[u8]) -> usize {
+    let Some(last_nl) = bytes.iter().rposition(|&b| b == b'\n') else {
+        return 0;
+    };
+    if last_nl + 1 < bytes.len() {
+        // Bytes after the last newline: an interrupted write.
+        return last_nl + 1;
+    }
+    let body = &bytes[..last_nl];
+    let start = body.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let last = String::from_utf8_lossy(&body[start..]);
+    if last.trim().is_empty() || decode_line(&last).is_ok() {
+        last_nl + 1
+    } else {
+        start
     }
 }
 

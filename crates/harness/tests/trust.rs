@@ -1,0 +1,106 @@
+//! Issue 45's third round of probes on results folders: a packed file with a torn last line,
+//! pages and statistics written only where the user said, terminal escapes in labels, and
+//! edited results files. Each test failed before its fix.
+#![cfg(unix)]
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+/// A spec whose 3 trials take milliseconds.
+const SPEC: &str = r#"
+name = "probe"
+seed = 5
+trials = 3
+kernel = "portable"
+
+[budget]
+evaluations = 20000
+
+[[instance]]
+name = "tuning"
+targets = [0.0]
+[instance.synthetic]
+params = "tuning"
+samples = 200
+sigma = 0.1
+seed = 1
+
+[[algorithm]]
+kind = "aed"
+"#;
+
+fn brdf_sls(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
+        .args(args)
+        .current_dir(dir)
+        .env("CI", "true")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn all_text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(o))
+}
+
+/// Asserts exit status `code` and an error message holding every one of `parts`.
+fn assert_refused(o: &Output, code: i32, parts: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "{err}");
+    for p in parts {
+        assert!(err.contains(p), "expected `{p}` in: {err}");
+    }
+}
+
+/// A temporary folder with `probe.toml` (`spec`) and its finished run in `done/`.
+fn with_a_run_of(spec: &str) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("probe.toml"), spec).unwrap();
+    let o = brdf_sls(
+        tmp.path(),
+        &["run", "probe.toml", "--out", "done", "--no-plots"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    tmp
+}
+
+fn with_a_run() -> tempfile::TempDir {
+    with_a_run_of(SPEC)
+}
+
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, bytes).unwrap();
+    gz.finish().unwrap()
+}
+
+/// Item 4: `gzip` of a results file whose last line is torn, as the only results file. The
+/// next `run` unpacked it, cut the torn line and went on; every later `run`, `stats` and
+/// `export` then exited 2 ("holds both ..."). Now every command reads the folder.
+#[test]
+fn a_packed_file_with_a_torn_last_line_does_not_wedge_the_folder() {
+    let tmp = with_a_run();
+    let dir = tmp.path();
+    let done = dir.join("done");
+    let mut bytes = std::fs::read(done.join("trials.jsonl")).unwrap();
+    // Drop the last trial line and put half of it back: a torn last line.
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    let last = text.trim_end().rsplit('\n').next().unwrap().to_string();
+    bytes.truncate(bytes.len() - last.len() - 1);
+    bytes.extend_from_slice(&last.as_bytes()[..last.len() / 2]);
+    std::fs::write(done.join("trials.jsonl.gz"), gzip(&bytes)).unwrap();
+    std::fs::remove_file(done.join("trials.jsonl")).unwrap();
+    for args in [
+        vec!["run", "probe.toml", "--out", "done", "--no-plots"],
+        vec!["run", "probe.toml", "--out", "done", "--no-plots"],
+        vec!["stats", "done"],
+        vec!["export", "--format", "ioh", "done"],
+    ] {
+        let o = brdf_sls(dir, &args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+    }
+}
