@@ -104,3 +104,49 @@ fn a_packed_file_with_a_torn_last_line_does_not_wedge_the_folder() {
         assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// Item 9: pages and statistics go where the user said, and never into a folder a run holds.
+#[test]
+fn pages_are_written_only_where_the_user_said() {
+    let tmp = with_a_run();
+    let dir = tmp.path();
+    let done = dir.join("done");
+    {
+        let _held = brdf_experiment::store::DirLock::acquire(&done).unwrap();
+        for args in [vec!["report", "done"], vec!["compare", "done", "done"]] {
+            let o = brdf_sls(dir, &args);
+            assert_refused(&o, 1, &["done is in use by another brdf-sls process"]);
+        }
+        assert!(!done.join("report.html").exists());
+        assert!(!done.join("compare.html").exists());
+        // Elsewhere is fine.
+        let o = brdf_sls(dir, &["report", "done", "--out", "page.html"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    // `stats D --out O` and `plot D --out O` write into O and leave D alone.
+    let before = std::fs::read(done.join("stats.csv")).unwrap();
+    std::fs::remove_file(done.join("stats.csv")).unwrap();
+    let o = brdf_sls(dir, &["stats", "done", "--out", "elsewhere"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("elsewhere/stats.csv").exists());
+    assert!(
+        !done.join("stats.csv").exists(),
+        "stats rewrote the results folder"
+    );
+    let o = brdf_sls(dir, &["plot", "done", "--out", "plots-here"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("plots-here/plots").is_dir());
+    assert!(
+        !done.join("plots").exists(),
+        "plot wrote into the results folder"
+    );
+    std::fs::write(done.join("stats.csv"), before).unwrap();
+
+    // `report A B` without --out would replace A's own page.
+    let o = brdf_sls(dir, &["report", "done"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read(done.join("report.html")).unwrap();
+    let o = brdf_sls(dir, &["report", "done", "done"]);
+    assert_refused(&o, 2, &["needs --out FILE", "report.html"]);
+    assert_eq!(std::fs::read(done.join("report.html")).unwrap(), page);
+}
