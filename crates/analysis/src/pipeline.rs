@@ -29,8 +29,8 @@ use brdf_experiment::shard::Shard;
 use brdf_experiment::spec::Spec;
 use brdf_model::Kernel;
 
-use crate::folder::Folder;
 use crate::analysis::{Analysis, ChartSet};
+use crate::folder::Folder;
 use crate::report::{Report, write_analysis};
 
 /// What to run, and how.
@@ -121,6 +121,7 @@ where
 {
     let say = |line: &str| {
         if request.notes {
+            let line = brdf_experiment::terminal::safe(line);
             let _ = writeln!(std::io::stderr().lock(), "{line}");
         }
     };

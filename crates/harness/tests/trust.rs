@@ -150,3 +150,36 @@ fn pages_are_written_only_where_the_user_said() {
     assert_refused(&o, 2, &["needs --out FILE", "report.html"]);
     assert_eq!(std::fs::read(done.join("report.html")).unwrap(), page);
 }
+
+/// Item 10: a label holding a terminal escape (clear the screen) was printed raw by `check`,
+/// `run`, `stats` and `compare`; it is printed escaped now (pages escape it as HTML already).
+#[test]
+fn labels_with_terminal_escapes_are_printed_escaped() {
+    let spec = SPEC.replace(
+        "kind = \"aed\"",
+        "kind = \"aed\"\nlabel = \"AED\\u001B[2J\\r\\u009Bx\"",
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("probe.toml"), spec).unwrap();
+    for args in [
+        vec!["check", "probe.toml"],
+        vec!["run", "probe.toml", "--out", "done", "--no-plots"],
+        vec!["stats", "done"],
+        vec!["stats", "done", "--print-only"],
+        vec!["compare", "done", "done"],
+    ] {
+        let o = brdf_sls(dir, &args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+        let text = all_text(&o);
+        assert!(
+            !text
+                .chars()
+                .any(|c| c == '\u{1b}' || c == '\r' || c == '\u{9b}'),
+            "{args:?} printed a control character: {text:?}"
+        );
+        if args[0] != "run" {
+            assert!(text.contains("AED\\u{1b}[2J"), "{args:?}: {text}");
+        }
+    }
+}
