@@ -183,3 +183,67 @@ fn labels_with_terminal_escapes_are_printed_escaped() {
         }
     }
 }
+
+/// `done`'s results with `edit` applied to the first trial line, written to `dir/edited`;
+/// returns that line's 1-based number.
+fn edit_first_trial(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> usize {
+    let text = std::fs::read_to_string(dir.join("done/trials.jsonl")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let at = lines
+        .iter()
+        .position(|l| l.contains("\"type\":\"trial\""))
+        .unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&lines[at]).unwrap();
+    edit(&mut v);
+    lines[at] = v.to_string();
+    std::fs::create_dir_all(dir.join("edited")).unwrap();
+    std::fs::write(dir.join("edited/trials.jsonl"), lines.join("\n") + "\n").unwrap();
+    at + 1
+}
+
+/// Item 11: an edited seed or target, or a negative time, in a results file was accepted by
+/// every command but a resume; each is refused now, naming the file, the line and the key.
+#[test]
+fn edited_seeds_targets_and_negative_times_are_refused_naming_file_line_and_key() {
+    let tmp = with_a_run();
+    let dir = tmp.path();
+    let commands: [&[&str]; 5] = [
+        &["stats", "edited", "--print-only"],
+        &["report", "edited", "--out", "page.html"],
+        &["compare", "done", "edited", "--out", "page.html"],
+        &["export", "--format", "ioh", "edited", "--out", "ioh"],
+        &["merge", "merged", "edited"],
+    ];
+    let line = edit_first_trial(dir, |v| {
+        let seed = v["seed"].as_u64().unwrap();
+        v["seed"] = (seed ^ 1).into();
+    });
+    let at = format!("edited/trials.jsonl:{line}");
+    for args in commands {
+        let o = brdf_sls(dir, args);
+        assert_refused(&o, 2, &[&at, "has seed", "the plan's seed"]);
+    }
+    let line = edit_first_trial(dir, |v| v["target"] = 0.5.into());
+    let at = format!("edited/trials.jsonl:{line}");
+    // merge checks seeds only (a relative target needs the best-known RMSE).
+    for args in &commands[..4] {
+        let o = brdf_sls(dir, args);
+        assert_refused(&o, 2, &[&at, "has target 0.5", "the plan's target"]);
+    }
+    let line = edit_first_trial(dir, |v| {
+        v["result"]["ended_at"]["cpu_seconds"] = (-1.0).into()
+    });
+    let at = format!("edited/trials.jsonl:{line}");
+    for args in commands
+        .iter()
+        .chain([&["run", "probe.toml", "--out", "edited", "--no-plots"][..]].iter())
+    {
+        let o = brdf_sls(dir, args);
+        assert_refused(
+            &o,
+            2,
+            &[&at, "`result.ended_at.cpu_seconds` is -1", "at least 0"],
+        );
+    }
+    assert!(!dir.join("merged/trials.jsonl").exists());
+}

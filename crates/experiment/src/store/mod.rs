@@ -105,6 +105,18 @@ pub enum StoreError {
         /// What failed to parse.
         message: String,
     },
+    /// A trial line parses but holds a value no run writes (a negative time).
+    #[error("{path}:{line}: trial `{key}`: {message}; the file was not modified")]
+    Invalid {
+        /// The results file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// The trial's key.
+        key: String,
+        /// Which value, and what was expected.
+        message: String,
+    },
     /// The file has no header line.
     #[error("{path}: missing header line (not a brdf-sls results file?)")]
     MissingHeader {
@@ -341,6 +353,8 @@ pub struct Contents {
     pub sessions: Vec<Session>,
     /// Finished trials (first occurrence of each key), in file order.
     pub records: Vec<TrialRecord>,
+    /// The 1-based line of each of `records` (empty for contents not read from a file).
+    pub lines: Vec<usize>,
     /// Byte length of the well-formed prefix (everything up to the last good line).
     pub good_len: u64,
     /// Torn bytes after the good prefix, if any.
@@ -373,12 +387,42 @@ impl Contents {
     }
 }
 
+/// The first time of `r` below 0 (a run measures every time from the trial's start), named
+/// by its key in the line, with what was expected.
+fn negative_time(r: &TrialRecord) -> Option<String> {
+    let res = &r.result;
+    let stamps = [("result.ended_at", &res.ended_at)]
+        .into_iter()
+        .chain(res.reached_at.as_ref().map(|s| ("result.reached_at", s)))
+        .chain(res.trace.iter().map(|p| ("result.trace[].at", &p.at)));
+    for (name, s) in stamps {
+        for (field, v) in [
+            ("cpu_seconds", s.cpu_seconds),
+            ("wall_seconds", s.wall_seconds),
+        ] {
+            if v < 0.0 {
+                return Some(format!(
+                    "`{name}.{field}` is {v}, expected a time of at least 0 seconds"
+                ));
+            }
+        }
+    }
+    let b = &r.budget;
+    match b.cpu_seconds {
+        Some(v) if v < 0.0 => Some(format!(
+            "`budget.cpu_seconds` is {v}, expected a budget of at least 0 seconds"
+        )),
+        _ => None,
+    }
+}
+
 /// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
 /// the last one is.
 pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError> {
     let mut header = None;
     let mut sessions = Vec::new();
     let mut records = Vec::new();
+    let mut lines = Vec::new();
     let mut duplicates = Vec::new();
     let mut seen = std::collections::HashSet::new();
     let mut pos = 0usize;
@@ -424,8 +468,17 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
             }
             Ok(Line::Session(s)) => sessions.push(s),
             Ok(Line::Trial(r)) => {
+                if let Some(message) = negative_time(&r) {
+                    return Err(StoreError::Invalid {
+                        path: path.to_path_buf(),
+                        line: line_no,
+                        key: r.key,
+                        message,
+                    });
+                }
                 if seen.insert(r.key.clone()) {
                     records.push(r);
+                    lines.push(line_no);
                 } else {
                     duplicates.push(r.key);
                 }
@@ -455,6 +508,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
         header,
         sessions,
         records,
+        lines,
         good_len: good_len as u64,
         torn,
         duplicates,

@@ -197,6 +197,8 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                             brdf_experiment::store::StoreError::FingerprintMismatch { .. }
                                 | brdf_experiment::store::StoreError::DataChanged { .. }
                                 | brdf_experiment::store::StoreError::BothPresent { .. }
+                                | brdf_experiment::store::StoreError::Invalid { .. }
+                                | brdf_experiment::store::StoreError::Corrupt { .. }
                         )
                 )
             )
@@ -208,6 +210,8 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                     brdf_experiment::store::StoreError::FingerprintMismatch { .. }
                         | brdf_experiment::store::StoreError::DataChanged { .. }
                         | brdf_experiment::store::StoreError::BothPresent { .. }
+                        | brdf_experiment::store::StoreError::Invalid { .. }
+                        | brdf_experiment::store::StoreError::Corrupt { .. }
                 )
             )
     })

@@ -66,6 +66,8 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     for n in resolved.notes {
         note!("note: {n}");
     }
+    let file = brdf_experiment::store::results_file(&dir);
+    brdf_experiment::seed_check::check_stored(&file, &contents.records, &contents.lines, &spec)?;
     let below = brdf_experiment::best_known::below_best_known(&spec, &contents.records);
     for w in brdf_experiment::best_known::warnings(&spec)
         .into_iter()
