@@ -247,3 +247,66 @@ fn edited_seeds_targets_and_negative_times_are_refused_naming_file_line_and_key(
     }
     assert!(!dir.join("merged/trials.jsonl").exists());
 }
+
+/// Item 8: `gen --out` through a dangling link created the link target's missing folders
+/// wherever it pointed; links inside a results folder (`stats.json`, `report.html`, `plots/`)
+/// were written through, outside the folder. Both are refused now and nothing is written.
+#[test]
+fn links_never_lead_writes_outside_where_the_user_said() {
+    use std::os::unix::fs::symlink;
+    let tmp = with_a_run();
+    let dir = tmp.path();
+    symlink("elsewhere/deep/x.csv", dir.join("dangling.csv")).unwrap();
+    let o = brdf_sls(
+        dir,
+        &[
+            "gen",
+            "--params",
+            "tuning",
+            "--samples",
+            "10",
+            "--out",
+            "dangling.csv",
+        ],
+    );
+    assert_refused(&o, 2, &["dangling.csv", "whose folder does not exist"]);
+    assert!(
+        !dir.join("elsewhere").exists(),
+        "gen created folders elsewhere"
+    );
+
+    let done = dir.join("done");
+    std::fs::write(dir.join("victim.txt"), "mine").unwrap();
+    std::fs::create_dir(dir.join("victim-dir")).unwrap();
+    let cases: [(&str, &str, &[&str]); 3] = [
+        ("stats.json", "../victim.txt", &["stats", "done"]),
+        ("report.html", "../victim.txt", &["report", "done"]),
+        ("plots", "../victim-dir", &["plot", "done"]),
+    ];
+    for (name, to, args) in cases {
+        let at = done.join(name);
+        let _ = std::fs::remove_file(&at);
+        let _ = std::fs::remove_dir_all(&at);
+        symlink(to, &at).unwrap();
+        let o = brdf_sls(dir, args);
+        assert_refused(&o, 2, &[name, "is a symbolic link", "remove the link"]);
+        std::fs::remove_file(&at).unwrap();
+    }
+    assert_eq!(
+        std::fs::read_to_string(dir.join("victim.txt")).unwrap(),
+        "mine"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.join("victim-dir")).unwrap().count(),
+        0
+    );
+    // A link inside plots/ is refused too.
+    std::fs::create_dir_all(done.join("plots")).unwrap();
+    symlink("../../victim.txt", done.join("plots/x.png")).unwrap();
+    let o = brdf_sls(dir, &["plot", "done"]);
+    assert_refused(&o, 2, &["x.png", "is a symbolic link"]);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("victim.txt")).unwrap(),
+        "mine"
+    );
+}

@@ -78,7 +78,15 @@ pub fn write_report_page_of(
 /// The lock of the folder `page` is written into, when that folder holds results
 /// ([`lock_if_results`]).
 pub fn lock_page_folder(page: &Path) -> Result<Option<brdf_experiment::store::DirLock>> {
-    lock_if_results(&page_dir(page)).with_context(|| format!("not writing {}", page.display()))
+    let lock = lock_if_results(&page_dir(page))
+        .with_context(|| format!("not writing {}", page.display()))?;
+    if lock.is_some()
+        && let Some(name) = page.file_name().and_then(|n| n.to_str())
+    {
+        // A page inside a results folder is not written through a link there.
+        brdf_graphics::target::refuse_links_in(&page_dir(page), &[name])?;
+    }
+    Ok(lock)
 }
 
 /// The lock of `dir` when it holds results: a run holds it while it writes trials (and
