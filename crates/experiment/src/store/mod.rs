@@ -55,8 +55,10 @@ pub const PACKED_TRIALS_FILE: &str = "trials.jsonl.gz";
 /// Name of the lock file inside the output directory (holds the writer's PID).
 pub const LOCK_FILE: &str = ".lock";
 
-/// Largest results file read back (unpacked), against a corrupt or hostile `.gz`.
-pub const MAX_RESULTS_BYTES: u64 = 8 << 30;
+/// Largest results file read back (unpacked), against a corrupt or hostile `.gz` and to bound
+/// memory: 4 GiB. Files are parsed as they are read; what stays in memory is the parsed
+/// trials, about half the file's size (docs/results-format.md has measurements).
+pub const MAX_RESULTS_BYTES: u64 = 4 << 30;
 
 /// Errors of the results store.
 #[derive(Debug, thiserror::Error)]
@@ -158,8 +160,11 @@ pub enum StoreError {
         /// serde_json's message.
         message: String,
     },
-    /// The packed results are larger than [`MAX_RESULTS_BYTES`] once unpacked.
-    #[error("{path}: unpacks to more than {MAX_RESULTS_BYTES} bytes; refusing to read it")]
+    /// The results are larger than [`MAX_RESULTS_BYTES`] (once unpacked).
+    #[error(
+        "{path}: holds more than {MAX_RESULTS_BYTES} bytes of results (MAX_RESULTS_BYTES, once \
+         unpacked); refusing to read it (split the experiment into shards, see docs/cluster.md)"
+    )]
     TooLarge {
         /// The packed file.
         path: PathBuf,
@@ -419,29 +424,41 @@ fn negative_time(r: &TrialRecord) -> Option<String> {
 /// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
 /// the last one is.
 pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError> {
+    parse_reader(path, bytes)
+}
+
+/// Parses a results file line by line from `reader` (as [`parse_contents`]), holding one line
+/// at a time besides what it returns: a large file is never held whole in memory.
+pub fn parse_reader(
+    path: &Path,
+    mut reader: impl std::io::BufRead,
+) -> Result<Contents, StoreError> {
     let mut header = None;
     let mut sessions = Vec::new();
     let mut records = Vec::new();
     let mut lines = Vec::new();
     let mut duplicates = Vec::new();
     let mut seen = std::collections::HashSet::new();
-    let mut pos = 0usize;
-    let mut good_len = 0usize;
+    let mut good_len = 0u64;
     let mut line_no = 0usize;
     let mut torn = None;
-    while pos < bytes.len() {
-        line_no += 1;
-        let Some(nl) = bytes[pos..].iter().position(|&b| b == b'\n') else {
-            // No newline: the write of this line was interrupted.
-            torn = Some(bytes[pos..].to_vec());
+    let mut buf = Vec::new();
+    loop {
+        buf.clear();
+        let n = reader.read_until(b'\n', &mut buf).map_err(io_err(path))?;
+        if n == 0 {
             break;
-        };
-        let end = pos + nl;
-        let is_last = end + 1 >= bytes.len();
-        let text = String::from_utf8_lossy(&bytes[pos..end]);
+        }
+        line_no += 1;
+        if buf.last() != Some(&b'\n') {
+            // No newline: the write of this line was interrupted.
+            torn = Some(std::mem::take(&mut buf));
+            break;
+        }
+        let is_last = reader.fill_buf().map_err(io_err(path))?.is_empty();
+        let text = String::from_utf8_lossy(&buf[..n - 1]);
         if text.trim().is_empty() {
-            pos = end + 1;
-            good_len = pos;
+            good_len += n as u64;
             continue;
         }
         match decode_line(&text) {
@@ -487,7 +504,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
                 // A complete but unparsable last line can only come from an interrupted write
                 // that happened to end at a newline: treat it as torn.
                 let _ = e;
-                torn = Some(bytes[pos..].to_vec());
+                torn = Some(std::mem::take(&mut buf));
                 break;
             }
             Err(e) => {
@@ -498,8 +515,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
                 });
             }
         }
-        pos = end + 1;
-        good_len = pos;
+        good_len += n as u64;
     }
     let header = header.ok_or_else(|| StoreError::MissingHeader {
         path: path.to_path_buf(),
@@ -509,7 +525,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
         sessions,
         records,
         lines,
-        good_len: good_len as u64,
+        good_len,
         torn,
         duplicates,
     })
@@ -605,15 +621,37 @@ fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
 }
 
 /// Reads a results file, `<dir>/trials.jsonl`, or (when only that exists) the packed
-/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
+/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored. The file is
+/// parsed as it is read (never held whole in memory), up to [`MAX_RESULTS_BYTES`] unpacked.
 pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
     let file = if path.is_dir() {
         results_file_checked(path)?
     } else {
         path.to_path_buf()
     };
-    let bytes = read_maybe_packed(&file)?;
-    parse_contents(&file, &bytes)
+    stream_results(&file)
+}
+
+/// Parses `path` (unpacking a `.gz`) while reading it, refusing more than
+/// [`MAX_RESULTS_BYTES`] of unpacked text ([`StoreError::TooLarge`]).
+fn stream_results(path: &Path) -> Result<Contents, StoreError> {
+    use std::io::BufReader;
+    folder::count_read();
+    let file =
+        crate::input_file::open_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path))?;
+    let raw: Box<dyn Read> = if is_packed(path) {
+        Box::new(flate2::read::GzDecoder::new(BufReader::new(file)))
+    } else {
+        Box::new(file)
+    };
+    let mut limited = BufReader::with_capacity(1 << 16, raw.take(MAX_RESULTS_BYTES + 1));
+    let contents = parse_reader(path, &mut limited)?;
+    if limited.into_inner().limit() == 0 {
+        return Err(StoreError::TooLarge {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(contents)
 }
 
 mod folder;
