@@ -333,3 +333,39 @@ fn a_results_file_past_the_documented_limit_is_refused_before_reading() {
         assert_refused(&o, 2, &["huge/trials.jsonl", "4294967296"]);
     }
 }
+
+/// Item 23 (papercuts): `trials = 0` was refused without its line; a run that failed before
+/// writing results (a data file that is gone) left an empty folder holding only `.lock`.
+#[test]
+fn papercuts_trials_line_and_no_empty_folder_after_a_failed_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(
+        dir.join("zero.toml"),
+        SPEC.replace("trials = 3", "trials = 0"),
+    )
+    .unwrap();
+    let o = brdf_sls(dir, &["check", "zero.toml"]);
+    assert_refused(&o, 2, &["zero.toml:4: `trials` must be at least 1"]);
+
+    let gone = format!(
+        "{SPEC}\n[[instance]]\nname = \"gone\"\ntargets = [0.1]\n[instance.file]\npath = \"gone.csv\"\n"
+    );
+    std::fs::write(dir.join("gone.toml"), gone).unwrap();
+    let o = brdf_sls(dir, &["run", "gone.toml", "--out", "new", "--no-plots"]);
+    assert!(!o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("gone.csv"), "{}", stderr(&o));
+    assert!(
+        !dir.join("new").exists(),
+        "a failed run left its folder behind"
+    );
+    // An existing folder stays, without a stray lock file.
+    std::fs::create_dir(dir.join("old")).unwrap();
+    let o = brdf_sls(dir, &["run", "gone.toml", "--out", "old", "--no-plots"]);
+    assert!(!o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("old").is_dir());
+    assert!(
+        !dir.join("old/.lock").exists(),
+        "a failed run left .lock behind"
+    );
+}
