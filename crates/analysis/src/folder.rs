@@ -28,6 +28,9 @@ pub enum FolderError {
         /// Why.
         source: StoredSpecError,
     },
+    /// A stored trial has another seed or target than the plan's (bad input).
+    #[error(transparent)]
+    Seed(#[from] brdf_experiment::seed_check::SeedMismatch),
     /// The best-known RMSE of a relative target could not be found.
     #[error("{dir}: finding the best-known RMSEs: {message}")]
     BestKnown {
@@ -43,8 +46,13 @@ impl FolderError {
     /// rather than a failure while reading one.
     pub fn is_input_error(&self) -> bool {
         match self {
-            FolderError::Missing(_) | FolderError::Spec { .. } => true,
-            FolderError::Store(e) => matches!(e, StoreError::Corrupt { .. }),
+            FolderError::Missing(_) | FolderError::Spec { .. } | FolderError::Seed(_) => true,
+            FolderError::Store(e) => matches!(
+                e,
+                StoreError::Corrupt { .. }
+                    | StoreError::Invalid { .. }
+                    | StoreError::BothPresent { .. }
+            ),
             FolderError::BestKnown { .. } => false,
         }
     }
@@ -84,6 +92,12 @@ impl Folder {
                 dir: path.to_path_buf(),
                 message: e.to_string(),
             })?;
+        brdf_experiment::seed_check::check_stored(
+            &file,
+            &contents.records,
+            &contents.lines,
+            &spec,
+        )?;
         Ok(Folder::new(path, spec, contents, resolved.notes))
     }
 
@@ -94,6 +108,7 @@ impl Folder {
             header: outcome.header.clone(),
             sessions: outcome.sessions.clone(),
             records: outcome.records.clone(),
+            lines: Vec::new(),
             good_len: 0,
             torn: None,
             duplicates: Vec::new(),

@@ -121,6 +121,7 @@ where
 {
     let say = |line: &str| {
         if request.notes {
+            let line = brdf_experiment::terminal::safe(line);
             let _ = writeln!(std::io::stderr().lock(), "{line}");
         }
     };

@@ -106,6 +106,21 @@ pub fn compute_stats(spec: &Spec, records: &[TrialRecord]) -> StatsReport {
     Analysis::new(spec, records, ChartSet::None).stats
 }
 
+/// The files (and the `plots/` folder) `run`, `stats`, `plot` and `report` derive in a results
+/// folder: none of them may be a symbolic link there
+/// ([`brdf_graphics::target::refuse_links_in`]).
+pub const DERIVED_FILES: &[&str] = &[
+    "stats.json",
+    "stats.csv",
+    "tests.csv",
+    "finals.csv",
+    "table.txt",
+    "summary.json",
+    "report.html",
+    "compare.html",
+    "plots",
+];
+
 /// Writes statistics (JSON, CSV, table) and, when `plots` is set, the spec's plots.
 pub fn write_report(
     spec: &Spec,
@@ -137,6 +152,13 @@ pub fn write_analysis(
     out: &Path,
     plots: bool,
 ) -> Result<Report, ReportError> {
+    // Links among the derived files of a results folder are never written through.
+    brdf_graphics::target::refuse_links_in(out, DERIVED_FILES).map_err(|source| {
+        ReportError::Io {
+            path: out.to_path_buf(),
+            source,
+        }
+    })?;
     let report = &analysis.stats;
     let table = table(spec, &analysis);
     let mut files = Vec::new();

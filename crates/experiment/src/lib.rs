@@ -22,7 +22,8 @@
 //!   size.
 //! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
 //! - Leaf modules (importing nothing of the crate) holding the plain types the others share:
-//!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`].
+//!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`], [`terminal`] (control
+//!   characters of input escaped for the terminal).
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
 //! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 //! - [`polish`]: full-data descents with the solver's robust preset until it says the point
@@ -68,6 +69,7 @@ pub mod shard;
 pub mod signals;
 pub mod spec;
 pub mod store;
+pub mod terminal;
 pub mod threads;
 pub mod trial_key;
 

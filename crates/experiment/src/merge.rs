@@ -71,6 +71,9 @@ pub enum MergeError {
         /// The hash there.
         expected: String,
     },
+    /// An input's trial has another seed than the plan's for its key.
+    #[error(transparent)]
+    Seed(#[from] crate::seed_check::SeedMismatch),
     /// The stored spec text is missing or does not parse.
     #[error("{path}: the stored spec cannot be used: {message}")]
     Spec {
@@ -90,9 +93,11 @@ impl MergeError {
                 | MergeError::FingerprintMismatch { .. }
                 | MergeError::DataMismatch { .. }
                 | MergeError::Spec { .. }
+                | MergeError::Seed(_)
                 | MergeError::Read {
                     source: StoreError::Io { .. }
                         | StoreError::MissingHeader { .. }
+                        | StoreError::Invalid { .. }
                         | StoreError::Version { .. },
                     ..
                 }
@@ -382,6 +387,16 @@ pub fn merge(
 
     // Trials: first copy of each key, in plan order.
     let plan = spec.trials_plan();
+    // Every input's trials carry the plan's seeds, as a resume requires (targets are checked
+    // by the commands that resolve them: a relative target needs the best-known RMSE).
+    for (input, c) in &sources {
+        let file = if input.path.is_dir() {
+            results_file(&input.path)
+        } else {
+            input.path.clone()
+        };
+        crate::seed_check::check_seeds_at(&file, &c.records, &c.lines, &plan)?;
+    }
     let position: HashMap<&str, usize> = plan
         .iter()
         .enumerate()

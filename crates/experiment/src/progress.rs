@@ -82,6 +82,12 @@ impl Progress {
         ok: &[u64],
     ) -> Self {
         let mode = mode.resolve();
+        // Labels come from the spec: escaped before any bar or line shows them.
+        let safe_labels: Vec<String> = labels
+            .iter()
+            .map(|l| crate::terminal::safe(l).into_owned())
+            .collect();
+        let labels = &safe_labels[..];
         let total: u64 = totals.iter().sum();
         let start_done: u64 = done.iter().sum();
         let total_ok: u64 = ok.iter().sum();
@@ -122,7 +128,7 @@ impl Progress {
         }
         Progress {
             mode,
-            labels: labels.to_vec(),
+            labels: safe_labels.clone(),
             totals: totals.to_vec(),
             total,
             start_done,

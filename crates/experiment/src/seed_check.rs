@@ -1,18 +1,20 @@
-//! On resume, every stored trial must carry the seed the plan derives for its key: a trial run
-//! (or edited) with another seed would be mixed silently into results that claim to be seeded.
+//! Every stored trial must carry the seed the plan derives for its key, and the target its
+//! instance ran to: a trial run (or edited) with another seed or target would be mixed silently
+//! into results that claim to be seeded. A resume checks seeds; every command reading a
+//! results folder checks both ([`check_stored`]).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use crate::spec::PlannedTrial;
+use crate::spec::{PlannedTrial, Spec};
 use crate::store::TrialRecord;
 
-/// A stored trial whose seed is not the plan's seed for its key.
+/// A stored trial whose seed or target is not the plan's for its key.
 #[derive(Debug, thiserror::Error)]
 #[error(
-    "{path}{}: trial `{key}` has seed {stored}, but the plan's seed for it is {planned}; \
-     the results were edited or written by another plan. Refusing to resume: restore the line, \
-     remove it (the trial is then run again), or start over with --fresh",
+    "{path}{}: trial `{key}` has {what} {stored}, but the plan's {what} for it is {planned}; \
+     the results were edited or written by another plan. Refusing to use them: restore the \
+     line, remove it (a `run` then runs the trial again), or start over with --fresh",
     line.map(|l| format!(":{l}")).unwrap_or_default()
 )]
 pub struct SeedMismatch {
@@ -22,28 +24,118 @@ pub struct SeedMismatch {
     pub line: Option<usize>,
     /// The trial's key.
     pub key: String,
-    /// The seed stored with it.
-    pub stored: u64,
-    /// The seed the plan derives.
-    pub planned: u64,
+    /// The key of the line that differs.
+    pub what: Mismatched,
+    /// The value stored with it.
+    pub stored: String,
+    /// The value the plan derives.
+    pub planned: String,
 }
 
-/// Checks each stored record of a planned key against the plan's seed.
+/// Which key of a trial line differs from the plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mismatched {
+    /// `seed`.
+    Seed,
+    /// `target`.
+    Target,
+}
+
+impl std::fmt::Display for Mismatched {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Mismatched::Seed => "seed",
+            Mismatched::Target => "target",
+        })
+    }
+}
+
+/// Checks each stored record of a planned key against the plan's seed (a resume, where the
+/// targets are checked apart).
 pub fn check_seeds(
     path: &Path,
     records: &[TrialRecord],
     plan: &[PlannedTrial],
 ) -> Result<(), SeedMismatch> {
-    let seeds: HashMap<&str, u64> = plan.iter().map(|t| (t.key.as_str(), t.seed)).collect();
-    for r in records {
-        if let Some(&planned) = seeds.get(r.key.as_str())
-            && planned != r.seed
-        {
+    check_seeds_at(path, records, &[], plan)
+}
+
+/// [`check_seeds`] with the 1-based line of each record when known (as in [`check_stored`]).
+pub fn check_seeds_at(
+    path: &Path,
+    records: &[TrialRecord],
+    lines: &[usize],
+    plan: &[PlannedTrial],
+) -> Result<(), SeedMismatch> {
+    let planned: HashMap<&str, (u64, f64)> = plan
+        .iter()
+        .map(|t| (t.key.as_str(), (t.seed, f64::NAN)))
+        .collect();
+    check(path, records, lines, &planned)
+}
+
+/// Checks each stored record of a key in `spec`'s plan against the plan: the seed it derives
+/// and the instance's run target (the lowest target, once relative targets are resolved; not
+/// checked while unresolved). `lines[i]` is the 1-based line of `records[i]` when known
+/// ([`crate::store::Contents::lines`]); otherwise the file is read again to name the line.
+/// `stats`, `plot`, `report`, `compare`, `export` and `merge` read results through this, as a
+/// resume checks seeds: results that claim to be seeded are never mixed with edited ones.
+pub fn check_stored(
+    path: &Path,
+    records: &[TrialRecord],
+    lines: &[usize],
+    spec: &Spec,
+) -> Result<(), SeedMismatch> {
+    let plan = spec.trials_plan();
+    let planned: HashMap<&str, (u64, f64)> = plan
+        .iter()
+        .map(|t| {
+            let inst = &spec.instances[t.instance];
+            let resolved = inst.relative_targets.is_empty() || inst.best_known.is_some();
+            let target = if resolved {
+                inst.run_target()
+            } else {
+                f64::NAN
+            };
+            (t.key.as_str(), (t.seed, target))
+        })
+        .collect();
+    check(path, records, lines, &planned)
+}
+
+/// True when a stored target is the planned one: equal, or equal to 1e-9 relative (a
+/// best-known RMSE recomputed for an older folder may differ in its last bits).
+fn same_target(stored: f64, planned: f64) -> bool {
+    planned.is_nan() || stored == planned || (stored - planned).abs() <= 1e-9 * planned.abs()
+}
+
+fn check(
+    path: &Path,
+    records: &[TrialRecord],
+    lines: &[usize],
+    planned: &HashMap<&str, (u64, f64)>,
+) -> Result<(), SeedMismatch> {
+    for (i, r) in records.iter().enumerate() {
+        let Some(&(seed, target)) = planned.get(r.key.as_str()) else {
+            continue;
+        };
+        let differs = if seed != r.seed {
+            Some((Mismatched::Seed, r.seed.to_string(), seed.to_string()))
+        } else if !same_target(r.target, target) {
+            Some((Mismatched::Target, r.target.to_string(), target.to_string()))
+        } else {
+            None
+        };
+        if let Some((what, stored, planned)) = differs {
             return Err(SeedMismatch {
                 path: path.to_path_buf(),
-                line: line_of_trial(path, &r.key),
+                line: lines
+                    .get(i)
+                    .copied()
+                    .or_else(|| line_of_trial(path, &r.key)),
                 key: r.key.clone(),
-                stored: r.seed,
+                what,
+                stored,
                 planned,
             });
         }

@@ -174,3 +174,48 @@ fn packed_results_are_read_and_resumed_transparently() {
     assert_eq!(read_results(dir.path()).unwrap().records.len(), 2);
     assert!(packed.exists(), "the packed copy is kept");
 }
+
+/// Issue 45, item 4: a packed file whose last line is torn wedged the folder: the first run
+/// unpacked it and cut the torn line, after which the plain file no longer started with the
+/// packed bytes, and every later `run`, `stats` and `export` refused the folder as holding two
+/// different results files. The rule now is the same everywhere: the plain file is the
+/// results when it starts with the packed file's complete lines (a torn tail is not results).
+#[test]
+fn a_packed_file_with_a_torn_last_line_resumes_and_stays_readable() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+    o.store.append(&record(0, 0.09)).unwrap();
+    drop(o);
+    let plain = dir.path().join(TRIALS_FILE);
+    let packed = dir.path().join(PACKED_TRIALS_FILE);
+    let mut bytes = std::fs::read(&plain).unwrap();
+    let torn = trial_line(&record(1, 0.09));
+    bytes.extend_from_slice(&torn.as_bytes()[..torn.len() / 2]);
+    let mut gz = flate2::write::GzEncoder::new(
+        File::create(&packed).unwrap(),
+        flate2::Compression::default(),
+    );
+    gz.write_all(&bytes).unwrap();
+    gz.finish().unwrap();
+    std::fs::remove_file(&plain).unwrap();
+
+    let c = read_results(dir.path()).unwrap();
+    assert_eq!(c.records.len(), 1);
+    assert!(c.torn.is_some());
+
+    let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+    assert_eq!(o.records.len(), 1);
+    o.store.append(&record(1, 0.09)).unwrap();
+    drop(o);
+    // Reading, and resuming again, both use the plain file now.
+    let c = read_results(dir.path()).unwrap();
+    assert_eq!(c.records.len(), 2, "the plain file is the results");
+    let o = ResultStore::open(dir.path(), header("f1"), false).unwrap();
+    assert_eq!(o.records.len(), 2);
+    drop(o);
+
+    // A plain file that does not start with the packed file's complete lines is still refused.
+    std::fs::write(&plain, b"{\"type\":\"other\"}\n").unwrap();
+    let err = read_results(dir.path()).unwrap_err();
+    assert!(matches!(err, StoreError::BothPresent { .. }), "{err}");
+}

@@ -176,17 +176,24 @@ fn segment(line: &str) -> Option<(&str, Vec<String>)> {
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then
-/// rename. Parent directories are created.
+/// rename. Parent directories of `path` are created.
 ///
 /// A symbolic link is written through: its target gets the new content (atomically, beside the
-/// target) and the link stays. A path that is (or links to) a device, FIFO, socket or
+/// target) and the link stays; a link whose target's folder does not exist is refused, never
+/// creating folders where it points. A path that is (or links to) a device, FIFO, socket or
 /// directory is refused with [`std::io::ErrorKind::InvalidInput`] and left untouched.
 /// Temporaries of the same name left by killed writers are removed first (see
 /// [`crate::target::remove_stale_temporaries`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let given = path;
     let path = &crate::target::write_target(path)?;
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
     if let Some(d) = dir {
+        if path != given && !d.is_dir() {
+            // A dangling link: its target's folder is not created (that would make folders
+            // wherever the link points).
+            return Err(crate::target::refused_link_folder(path));
+        }
         std::fs::create_dir_all(d)?;
     }
     crate::target::remove_stale_temporaries(path);
@@ -221,6 +228,24 @@ mod tests {
         assert_eq!(
             std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
             1
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_dangling_link_creates_no_folders_where_it_points() {
+        let dir = tempfile::tempdir().unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink("far/away/x.csv", &link).unwrap();
+        let err = write_atomic(&link, b"new").unwrap_err();
+        assert!(crate::target::is_refused_target(&err), "{err}");
+        assert!(!dir.path().join("far").exists());
+        // With the folder there, the link is written through as any other.
+        std::fs::create_dir_all(dir.path().join("far/away")).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert_eq!(
+            std::fs::read(dir.path().join("far/away/x.csv")).unwrap(),
+            b"new"
         );
     }
 

@@ -82,6 +82,54 @@ pub fn write_target(path: &Path) -> std::io::Result<PathBuf> {
     )))
 }
 
+/// The error of a write through a dangling link to `target`, whose folder does not
+/// exist (it is not created: that would make folders wherever the link points).
+pub fn refused_link_folder(target: &Path) -> Error {
+    refused(format!(
+        "is a symbolic link to {}, whose folder does not exist; refusing to create folders \
+         where a link points (create the folder, or write to another path)",
+        target.display()
+    ))
+}
+
+/// Refuses symbolic links among the derived files `names` of the results folder `dir`, and
+/// inside its `plots/` folder when that is among `names`: a results folder may come from
+/// anyone, and a link there (`stats.json` to a file in the home folder, `plots/` to another
+/// folder) would make `stats`, `plot`, `report` or `run` write outside it. The user did not
+/// name those paths, so they are not written through (unlike an `--out` file).
+pub fn refuse_links_in(dir: &Path, names: &[&str]) -> std::io::Result<()> {
+    let link = |path: &Path| -> std::io::Result<()> {
+        match std::fs::symlink_metadata(path) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(path).unwrap_or_default();
+                Err(Error::new(
+                    ErrorKind::InvalidInput,
+                    RefusedTarget(format!(
+                        "{}: is a symbolic link (to {}); the files derived in a results folder \
+                         are never written through links, which could point outside it: \
+                         remove the link",
+                        path.display(),
+                        to.display()
+                    )),
+                ))
+            }
+            _ => Ok(()),
+        }
+    };
+    for name in names {
+        let path = dir.join(name);
+        link(&path)?;
+        if path.is_dir()
+            && let Ok(entries) = std::fs::read_dir(&path)
+        {
+            for entry in entries.flatten() {
+                link(&entry.path())?;
+            }
+        }
+    }
+    Ok(())
+}
+
 fn refused(message: String) -> Error {
     Error::new(ErrorKind::InvalidInput, RefusedTarget(message))
 }

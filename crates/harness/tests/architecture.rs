@@ -23,6 +23,7 @@ const LEAVES: &[&str] = &[
     "crates/experiment/src/trial_key.rs",
     "crates/experiment/src/duration.rs",
     "crates/experiment/src/choice.rs",
+    "crates/experiment/src/terminal.rs",
 ];
 
 /// The workspace's crates (package names) in layers, lowest first: a crate depends only on

@@ -64,14 +64,20 @@ pub struct EvalCounts {
 }
 
 impl EvalCounts {
-    /// All sample-evaluations in the paper's count: residual + Jacobian + RMSE rows.
+    /// All sample-evaluations in the paper's count: residual + Jacobian + RMSE rows (saturating
+    /// at `u64::MAX`: counts read from a results file may be anything).
     pub fn total(&self) -> u64 {
-        self.residual_rows + self.jacobian_rows + self.rmse_rows
+        self.residual_rows
+            .saturating_add(self.jacobian_rows)
+            .saturating_add(self.rmse_rows)
     }
 
-    /// Sample-evaluations actually computed: residual + Jacobian + computed RMSE rows.
+    /// Sample-evaluations actually computed: residual + Jacobian + computed RMSE rows
+    /// (saturating, as [`EvalCounts::total`]).
     pub fn total_computed(&self) -> u64 {
-        self.residual_rows + self.jacobian_rows + self.rmse_rows_computed
+        self.residual_rows
+            .saturating_add(self.jacobian_rows)
+            .saturating_add(self.rmse_rows_computed)
     }
 }
 
@@ -163,5 +169,24 @@ impl TrialResult {
     /// the harness derive time-to-target for any target at least as loose as the trial's own.
     pub fn first_reaching(&self, target: f64) -> Option<Stamp> {
         self.trace.iter().find(|p| p.rmse <= target).map(|p| p.at)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::EvalCounts;
+
+    /// Counts come from results files too: totals past u64::MAX saturate instead of
+    /// overflowing (a panic in debug builds, found by crates/analysis/tests/fuzz_results.rs).
+    #[test]
+    fn totals_saturate() {
+        let c = EvalCounts {
+            residual_rows: u64::MAX,
+            jacobian_rows: 2,
+            rmse_rows: 3,
+            rmse_rows_computed: u64::MAX,
+        };
+        assert_eq!(c.total(), u64::MAX);
+        assert_eq!(c.total_computed(), u64::MAX);
     }
 }

@@ -599,14 +599,19 @@ impl Spec {
         let parsed = parsed::parse(text, origin)?;
         let cx = validate::Ctx { text, origin };
         let budget = validate::budget(&cx, parsed.budget)?;
-        validate::counts(&cx, parsed.trials, parsed.threads)?;
+        validate::counts(&cx, &parsed.trials, parsed.threads.as_ref())?;
         let mut raw_instances = parsed.instances;
         raw_instances
             .extend(suite::expand(text, parsed.suites).map_err(|(l, m)| cx.invalid(l, m))?);
         let instances = validate::instances(&cx, raw_instances, base_dir)?;
         let configurations = sweep::configurations(&cx, parsed.algorithms)?;
         validate::options(&cx, &parsed.plots, &parsed.stats)?;
-        validate::plan_size(&cx, parsed.trials, instances.len(), configurations.len())?;
+        validate::plan_size(
+            &cx,
+            *parsed.trials.get_ref(),
+            instances.len(),
+            configurations.len(),
+        )?;
         if parsed.tune.is_some()
             && let Some(i) = instances.iter().find(|i| !i.relative_targets.is_empty())
         {
@@ -633,8 +638,8 @@ impl Spec {
             name: validate::name(&cx, parsed.name, stem)?,
             description: parsed.description,
             seed: parsed.seed,
-            trials: parsed.trials,
-            threads: parsed.threads,
+            trials: parsed.trials.into_inner(),
+            threads: parsed.threads.map(toml::Spanned::into_inner),
             kernel: parsed.kernel,
             budget,
             instances,

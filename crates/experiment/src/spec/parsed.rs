@@ -24,8 +24,8 @@ pub(super) struct ParsedSpec {
     pub(super) name: Option<String>,
     pub(super) description: Option<String>,
     pub(super) seed: u64,
-    pub(super) trials: u32,
-    pub(super) threads: Option<usize>,
+    pub(super) trials: Spanned<u32>,
+    pub(super) threads: Option<Spanned<usize>>,
     #[serde(default)]
     pub(super) kernel: Kernel,
     pub(super) budget: Spanned<ParsedBudget>,

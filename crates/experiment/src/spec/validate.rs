@@ -76,13 +76,17 @@ pub(super) fn budget(cx: &Ctx<'_>, raw: Spanned<ParsedBudget>) -> Result<Budget,
     })
 }
 
-/// `trials` and `threads`.
-pub(super) fn counts(cx: &Ctx<'_>, trials: u32, threads: Option<usize>) -> Result<(), SpecError> {
-    if trials == 0 {
-        return Err(cx.invalid(None, "`trials` must be at least 1".into()));
+/// `trials` and `threads`, refused naming their lines.
+pub(super) fn counts(
+    cx: &Ctx<'_>,
+    trials: &Spanned<u32>,
+    threads: Option<&Spanned<usize>>,
+) -> Result<(), SpecError> {
+    if *trials.get_ref() == 0 {
+        return Err(cx.invalid(cx.line(trials), "`trials` must be at least 1".into()));
     }
     if let Some(n) = threads {
-        crate::threads::check(n, "`threads`").map_err(|m| cx.invalid(None, m))?;
+        crate::threads::check(*n.get_ref(), "`threads`").map_err(|m| cx.invalid(cx.line(n), m))?;
     }
     Ok(())
 }

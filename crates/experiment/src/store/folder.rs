@@ -75,18 +75,63 @@ pub struct LockedFolder {
     dir: PathBuf,
     lock: DirLock,
     found: Found,
+    // Declared after `lock`, so the lock is released before the guard cleans up.
+    _unused: UnusedFolder,
+}
+
+/// What a lock created and nothing else used: when a run fails before it writes any results
+/// (data that cannot be read, say), the folder it created for them, or the `.lock` it added
+/// to an existing folder, is removed again rather than left behind empty.
+#[derive(Debug)]
+struct UnusedFolder {
+    /// The folder, while the guard is armed.
+    dir: Option<PathBuf>,
+    /// The folder did not exist before the lock.
+    created_dir: bool,
+    /// `.lock` did not exist before the lock.
+    created_lock: bool,
+}
+
+impl Drop for UnusedFolder {
+    fn drop(&mut self) {
+        let Some(dir) = self.dir.take() else {
+            return;
+        };
+        if !self.created_lock {
+            return;
+        }
+        let only_lock = std::fs::read_dir(&dir).is_ok_and(|entries| {
+            entries
+                .flatten()
+                .all(|e| e.file_name() == std::ffi::OsStr::new(LOCK_FILE))
+        });
+        if only_lock {
+            let _ = std::fs::remove_file(dir.join(LOCK_FILE));
+            if self.created_dir {
+                let _ = std::fs::remove_dir(&dir);
+            }
+        }
+    }
 }
 
 impl LockedFolder {
     /// Creates `dir` if needed, takes its lock (or reports who holds it,
     /// [`StoreError::Locked`]), then reads its results file, plain or packed, once.
     pub fn lock(dir: &Path) -> Result<Self, StoreError> {
+        let created_dir = std::fs::symlink_metadata(dir).is_err();
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let created_lock = std::fs::symlink_metadata(dir.join(LOCK_FILE)).is_err();
+        let unused = UnusedFolder {
+            dir: Some(dir.to_path_buf()),
+            created_dir,
+            created_lock,
+        };
         let lock = DirLock::acquire(dir)?;
         Ok(LockedFolder {
             dir: dir.to_path_buf(),
             lock,
             found: read_found(dir),
+            _unused: unused,
         })
     }
 
@@ -104,7 +149,9 @@ impl LockedFolder {
         }
     }
 
-    pub(super) fn into_parts(self) -> (PathBuf, DirLock, Found) {
+    pub(super) fn into_parts(mut self) -> (PathBuf, DirLock, Found) {
+        // A store opens on the folder: it writes results, so the folder is kept.
+        self._unused.dir = None;
         (self.dir, self.lock, self.found)
     }
 }

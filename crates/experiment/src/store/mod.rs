@@ -30,6 +30,9 @@
 //! Packed results: the repository commits results as `trials.jsonl.gz`. [`read_results`] reads
 //! the packed file when the plain one is absent, and [`ResultStore::open`] unpacks it into
 //! `trials.jsonl` (keeping the packed copy) before resuming, so nobody has to unpack by hand.
+//! When both exist, the plain file is the results if it starts with the packed file's complete
+//! lines (a torn last line of the packed file is not results: the resume cut it off); otherwise
+//! every command refuses the folder ([`StoreError::BothPresent`]).
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -52,8 +55,10 @@ pub const PACKED_TRIALS_FILE: &str = "trials.jsonl.gz";
 /// Name of the lock file inside the output directory (holds the writer's PID).
 pub const LOCK_FILE: &str = ".lock";
 
-/// Largest results file read back (unpacked), against a corrupt or hostile `.gz`.
-pub const MAX_RESULTS_BYTES: u64 = 8 << 30;
+/// Largest results file read back (unpacked), against a corrupt or hostile `.gz` and to bound
+/// memory: 4 GiB. Files are parsed as they are read; what stays in memory is the parsed
+/// trials, about half the file's size (docs/results-format.md has measurements).
+pub const MAX_RESULTS_BYTES: u64 = 4 << 30;
 
 /// Errors of the results store.
 #[derive(Debug, thiserror::Error)]
@@ -102,6 +107,18 @@ pub enum StoreError {
         /// What failed to parse.
         message: String,
     },
+    /// A trial line parses but holds a value no run writes (a negative time).
+    #[error("{path}:{line}: trial `{key}`: {message}; the file was not modified")]
+    Invalid {
+        /// The results file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// The trial's key.
+        key: String,
+        /// Which value, and what was expected.
+        message: String,
+    },
     /// The file has no header line.
     #[error("{path}: missing header line (not a brdf-sls results file?)")]
     MissingHeader {
@@ -143,8 +160,11 @@ pub enum StoreError {
         /// serde_json's message.
         message: String,
     },
-    /// The packed results are larger than [`MAX_RESULTS_BYTES`] once unpacked.
-    #[error("{path}: unpacks to more than {MAX_RESULTS_BYTES} bytes; refusing to read it")]
+    /// The results are larger than [`MAX_RESULTS_BYTES`] (once unpacked).
+    #[error(
+        "{path}: holds more than {MAX_RESULTS_BYTES} bytes of results (MAX_RESULTS_BYTES, once \
+         unpacked); refusing to read it (split the experiment into shards, see docs/cluster.md)"
+    )]
     TooLarge {
         /// The packed file.
         path: PathBuf,
@@ -338,6 +358,8 @@ pub struct Contents {
     pub sessions: Vec<Session>,
     /// Finished trials (first occurrence of each key), in file order.
     pub records: Vec<TrialRecord>,
+    /// The 1-based line of each of `records` (empty for contents not read from a file).
+    pub lines: Vec<usize>,
     /// Byte length of the well-formed prefix (everything up to the last good line).
     pub good_len: u64,
     /// Torn bytes after the good prefix, if any.
@@ -370,31 +392,73 @@ impl Contents {
     }
 }
 
+/// The first time of `r` below 0 (a run measures every time from the trial's start), named
+/// by its key in the line, with what was expected.
+fn negative_time(r: &TrialRecord) -> Option<String> {
+    let res = &r.result;
+    let stamps = [("result.ended_at", &res.ended_at)]
+        .into_iter()
+        .chain(res.reached_at.as_ref().map(|s| ("result.reached_at", s)))
+        .chain(res.trace.iter().map(|p| ("result.trace[].at", &p.at)));
+    for (name, s) in stamps {
+        for (field, v) in [
+            ("cpu_seconds", s.cpu_seconds),
+            ("wall_seconds", s.wall_seconds),
+        ] {
+            if v < 0.0 {
+                return Some(format!(
+                    "`{name}.{field}` is {v}, expected a time of at least 0 seconds"
+                ));
+            }
+        }
+    }
+    let b = &r.budget;
+    match b.cpu_seconds {
+        Some(v) if v < 0.0 => Some(format!(
+            "`budget.cpu_seconds` is {v}, expected a budget of at least 0 seconds"
+        )),
+        _ => None,
+    }
+}
+
 /// Parses a results file's bytes. A torn tail is reported, not an error; a corrupt line before
 /// the last one is.
 pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError> {
+    parse_reader(path, bytes)
+}
+
+/// Parses a results file line by line from `reader` (as [`parse_contents`]), holding one line
+/// at a time besides what it returns: a large file is never held whole in memory.
+pub fn parse_reader(
+    path: &Path,
+    mut reader: impl std::io::BufRead,
+) -> Result<Contents, StoreError> {
     let mut header = None;
     let mut sessions = Vec::new();
     let mut records = Vec::new();
+    let mut lines = Vec::new();
     let mut duplicates = Vec::new();
     let mut seen = std::collections::HashSet::new();
-    let mut pos = 0usize;
-    let mut good_len = 0usize;
+    let mut good_len = 0u64;
     let mut line_no = 0usize;
     let mut torn = None;
-    while pos < bytes.len() {
-        line_no += 1;
-        let Some(nl) = bytes[pos..].iter().position(|&b| b == b'\n') else {
-            // No newline: the write of this line was interrupted.
-            torn = Some(bytes[pos..].to_vec());
+    let mut buf = Vec::new();
+    loop {
+        buf.clear();
+        let n = reader.read_until(b'\n', &mut buf).map_err(io_err(path))?;
+        if n == 0 {
             break;
-        };
-        let end = pos + nl;
-        let is_last = end + 1 >= bytes.len();
-        let text = String::from_utf8_lossy(&bytes[pos..end]);
+        }
+        line_no += 1;
+        if buf.last() != Some(&b'\n') {
+            // No newline: the write of this line was interrupted.
+            torn = Some(std::mem::take(&mut buf));
+            break;
+        }
+        let is_last = reader.fill_buf().map_err(io_err(path))?.is_empty();
+        let text = String::from_utf8_lossy(&buf[..n - 1]);
         if text.trim().is_empty() {
-            pos = end + 1;
-            good_len = pos;
+            good_len += n as u64;
             continue;
         }
         match decode_line(&text) {
@@ -421,8 +485,17 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
             }
             Ok(Line::Session(s)) => sessions.push(s),
             Ok(Line::Trial(r)) => {
+                if let Some(message) = negative_time(&r) {
+                    return Err(StoreError::Invalid {
+                        path: path.to_path_buf(),
+                        line: line_no,
+                        key: r.key,
+                        message,
+                    });
+                }
                 if seen.insert(r.key.clone()) {
                     records.push(r);
+                    lines.push(line_no);
                 } else {
                     duplicates.push(r.key);
                 }
@@ -431,7 +504,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
                 // A complete but unparsable last line can only come from an interrupted write
                 // that happened to end at a newline: treat it as torn.
                 let _ = e;
-                torn = Some(bytes[pos..].to_vec());
+                torn = Some(std::mem::take(&mut buf));
                 break;
             }
             Err(e) => {
@@ -442,8 +515,7 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
                 });
             }
         }
-        pos = end + 1;
-        good_len = pos;
+        good_len += n as u64;
     }
     let header = header.ok_or_else(|| StoreError::MissingHeader {
         path: path.to_path_buf(),
@@ -452,7 +524,8 @@ pub fn parse_contents(path: &Path, bytes: &[u8]) -> Result<Contents, StoreError>
         header,
         sessions,
         records,
-        good_len: good_len as u64,
+        lines,
+        good_len,
         torn,
         duplicates,
     })
@@ -484,7 +557,11 @@ pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
     if !(plain.exists() && packed.exists()) {
         return Ok(results_file(dir));
     }
-    let unpacked = read_maybe_packed(&packed)?;
+    let mut unpacked = read_maybe_packed(&packed)?;
+    // Only the packed file's complete lines are results: a `run` on a packed file with a torn
+    // last line unpacks it and cuts that line off before appending (issue 45, item 4).
+    let good = complete_prefix_len(&unpacked);
+    unpacked.truncate(good);
     let mut start = Vec::new();
     crate::input_file::open_regular(&plain, MAX_RESULTS_BYTES, RESULTS)
         .and_then(|f| f.take(unpacked.len() as u64).read_to_end(&mut start))
@@ -495,6 +572,27 @@ pub fn results_file_checked(dir: &Path) -> Result<PathBuf, StoreError> {
         Err(StoreError::BothPresent {
             dir: dir.to_path_buf(),
         })
+    }
+}
+
+/// Length of the part of a results file a resume keeps: everything before a torn last line
+/// (bytes after the last newline, or a last line that does not parse), as [`parse_contents`]
+/// reports it in [`Contents::good_len`].
+fn complete_prefix_len(bytes: &[u8]) -> usize {
+    let Some(last_nl) = bytes.iter().rposition(|&b| b == b'\n') else {
+        return 0;
+    };
+    if last_nl + 1 < bytes.len() {
+        // Bytes after the last newline: an interrupted write.
+        return last_nl + 1;
+    }
+    let body = &bytes[..last_nl];
+    let start = body.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let last = String::from_utf8_lossy(&body[start..]);
+    if last.trim().is_empty() || decode_line(&last).is_ok() {
+        last_nl + 1
+    } else {
+        start
     }
 }
 
@@ -523,15 +621,37 @@ fn read_maybe_packed(path: &Path) -> Result<Vec<u8>, StoreError> {
 }
 
 /// Reads a results file, `<dir>/trials.jsonl`, or (when only that exists) the packed
-/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored.
+/// `<dir>/trials.jsonl.gz`, without modifying anything; a torn tail is ignored. The file is
+/// parsed as it is read (never held whole in memory), up to [`MAX_RESULTS_BYTES`] unpacked.
 pub fn read_results(path: &Path) -> Result<Contents, StoreError> {
     let file = if path.is_dir() {
         results_file_checked(path)?
     } else {
         path.to_path_buf()
     };
-    let bytes = read_maybe_packed(&file)?;
-    parse_contents(&file, &bytes)
+    stream_results(&file)
+}
+
+/// Parses `path` (unpacking a `.gz`) while reading it, refusing more than
+/// [`MAX_RESULTS_BYTES`] of unpacked text ([`StoreError::TooLarge`]).
+fn stream_results(path: &Path) -> Result<Contents, StoreError> {
+    use std::io::BufReader;
+    folder::count_read();
+    let file =
+        crate::input_file::open_regular(path, MAX_RESULTS_BYTES, RESULTS).map_err(io_err(path))?;
+    let raw: Box<dyn Read> = if is_packed(path) {
+        Box::new(flate2::read::GzDecoder::new(BufReader::new(file)))
+    } else {
+        Box::new(file)
+    };
+    let mut limited = BufReader::with_capacity(1 << 16, raw.take(MAX_RESULTS_BYTES + 1));
+    let contents = parse_reader(path, &mut limited)?;
+    if limited.into_inner().limit() == 0 {
+        return Err(StoreError::TooLarge {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(contents)
 }
 
 mod folder;

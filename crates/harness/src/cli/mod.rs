@@ -156,7 +156,9 @@ pub struct ResultsArgs {
     /// A spec (TOML; results read from --out or runs/<stem>/), a results directory, or a
     /// trials.jsonl(.gz) file (the spec stored with the results is used). Default: runs/default/.
     pub target: Option<PathBuf>,
-    /// Results directory when TARGET is a spec.
+    /// With a spec as TARGET: its results folder (default: runs/<stem>/), where the files are
+    /// written too. With a results folder or file: the folder to write the statistics or
+    /// plots into (default: the results folder).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// `stats` only: print the statistics without writing any file (e.g. a read-only folder).

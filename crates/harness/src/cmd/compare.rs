@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use brdf_analysis::compare::{Options, compare as judge, entries, table};
 use brdf_analysis::stats::Measure;
 
-use super::report::{folder_of, read_folder, write_page};
+use super::report::{folder_of, lock_page_folder, read_folder, write_page};
 use super::{bail_input, say};
 use crate::cli::{CompareArgs, VerdictMeasure};
 
@@ -51,6 +51,7 @@ pub fn compare(a: CompareArgs) -> Result<()> {
         .unwrap_or_else(|| folder_of(&a.b).join("compare.html"));
     let page = brdf_analysis::html::compare_page(&fa, &fb, (&ea, &eb), &c)
         .context("building the comparison page")?;
+    let _lock = lock_page_folder(&out)?;
     write_page(&out, &page)?;
     say!("wrote {}", out.display());
     if c.comparable() == 0 {

@@ -31,6 +31,10 @@ pub fn export(a: ExportArgs) -> Result<()> {
         &dir.display().to_string(),
         "instances and configurations are",
     )?;
+    // Seeds are checked here; targets too when none is relative (export resolves no
+    // best-known RMSE, so a relative target is not known here).
+    let file = brdf_experiment::store::results_file(&dir);
+    brdf_experiment::seed_check::check_stored(&file, &contents.records, &contents.lines, &spec)?;
     let records = brdf_analysis::report::plan_records(&spec, &contents.records);
     let planned = spec.trials_plan().len();
     if records.len() < planned {

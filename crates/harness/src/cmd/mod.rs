@@ -46,7 +46,9 @@ pub fn main() -> std::process::ExitCode {
         Err(e) => {
             let code = exit_code(&e);
             if code != 0 {
-                let _ = writeln!(std::io::stderr().lock(), "error: {}", message(&e));
+                let text = message(&e);
+                let text = brdf_experiment::terminal::safe(&text);
+                let _ = writeln!(std::io::stderr().lock(), "error: {text}");
             }
             ExitCode::from(code)
         }
@@ -195,6 +197,8 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                             brdf_experiment::store::StoreError::FingerprintMismatch { .. }
                                 | brdf_experiment::store::StoreError::DataChanged { .. }
                                 | brdf_experiment::store::StoreError::BothPresent { .. }
+                                | brdf_experiment::store::StoreError::Invalid { .. }
+                                | brdf_experiment::store::StoreError::Corrupt { .. }
                         )
                 )
             )
@@ -206,6 +210,8 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                     brdf_experiment::store::StoreError::FingerprintMismatch { .. }
                         | brdf_experiment::store::StoreError::DataChanged { .. }
                         | brdf_experiment::store::StoreError::BothPresent { .. }
+                        | brdf_experiment::store::StoreError::Invalid { .. }
+                        | brdf_experiment::store::StoreError::Corrupt { .. }
                 )
             )
     })
@@ -238,22 +244,33 @@ macro_rules! bail_input {
 }
 pub(crate) use bail_input;
 
-/// Writes a line to standard output, returning the error (a closed pipe ends the command
+/// Writes a line to standard output (control characters escaped,
+/// [`brdf_experiment::terminal::safe`]), returning the error (a closed pipe ends the command
 /// quietly, see [`exit_code`]) instead of panicking as `println!` does.
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        writeln!(std::io::stdout().lock(), $($arg)*)
+        let text = format!($($arg)*);
+        writeln!(
+            std::io::stdout().lock(),
+            "{}",
+            brdf_experiment::terminal::safe(&text)
+        )
             .map_err(|e| anyhow::Error::new(e).context("writing to standard output"))?
     }};
 }
 pub(crate) use say;
 
-/// Writes a line to standard error, ignoring failures: diagnostics must never stop the work.
+/// Writes a line to standard error (control characters escaped), ignoring failures: diagnostics must never stop the work.
 macro_rules! note {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+        let text = format!($($arg)*);
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "{}",
+            brdf_experiment::terminal::safe(&text)
+        );
     }};
 }
 pub(crate) use note;

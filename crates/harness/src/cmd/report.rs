@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use brdf_analysis::folder::Folder;
 
-use super::{input_error, note, say};
+use super::{bail_input, input_error, note, say};
 use crate::cli::ReportArgs;
 
 /// `brdf-sls report`.
@@ -15,9 +15,17 @@ pub fn report(a: ReportArgs) -> Result<()> {
         .iter()
         .map(|d| read_folder(d))
         .collect::<Result<Vec<_>>>()?;
+    if a.dirs.len() > 1 && a.out.is_none() {
+        bail_input!(
+            "a report of {} folders needs --out FILE (it would replace {}'s own report.html)",
+            a.dirs.len(),
+            a.dirs[0].display()
+        );
+    }
     let out = a
         .out
         .unwrap_or_else(|| folder_of(&a.dirs[0]).join("report.html"));
+    let _lock = lock_page_folder(&out)?;
     write_report_page(&folders, &out)?;
     say!("wrote {}", out.display());
     Ok(())
@@ -65,6 +73,36 @@ pub fn write_report_page_of(
     let page = brdf_analysis::html::report_page_of(folders, &page_dir(out))
         .context("building the report page")?;
     write_page(out, &page)
+}
+
+/// The lock of the folder `page` is written into, when that folder holds results
+/// ([`lock_if_results`]).
+pub fn lock_page_folder(page: &Path) -> Result<Option<brdf_experiment::store::DirLock>> {
+    let lock = lock_if_results(&page_dir(page))
+        .with_context(|| format!("not writing {}", page.display()))?;
+    if lock.is_some()
+        && let Some(name) = page.file_name().and_then(|n| n.to_str())
+    {
+        // A page inside a results folder is not written through a link there.
+        brdf_graphics::target::refuse_links_in(&page_dir(page), &[name])?;
+    }
+    Ok(lock)
+}
+
+/// The lock of `dir` when it holds results: a run holds it while it writes trials (and
+/// rewrites its statistics and pages when it ends), so a file written there now would show a
+/// partial run and race with the run's own. Refused with the holder's PID
+/// ([`brdf_experiment::store::StoreError::Locked`], exit status 1); a folder without results
+/// takes no lock.
+pub fn lock_if_results(dir: &Path) -> Result<Option<brdf_experiment::store::DirLock>> {
+    use brdf_experiment::store::{DirLock, PACKED_TRIALS_FILE, TRIALS_FILE};
+    let holds_results = [TRIALS_FILE, PACKED_TRIALS_FILE]
+        .iter()
+        .any(|f| std::fs::symlink_metadata(dir.join(f)).is_ok());
+    if !holds_results {
+        return Ok(None);
+    }
+    Ok(Some(DirLock::acquire(dir)?))
 }
 
 /// The folder a page is written into (links on it are relative to it).

@@ -66,6 +66,8 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     for n in resolved.notes {
         note!("note: {n}");
     }
+    let file = brdf_experiment::store::results_file(&dir);
+    brdf_experiment::seed_check::check_stored(&file, &contents.records, &contents.lines, &spec)?;
     let below = brdf_experiment::best_known::below_best_known(&spec, &contents.records);
     for w in brdf_experiment::best_known::warnings(&spec)
         .into_iter()
@@ -92,23 +94,28 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         }
         return Ok(());
     }
-    // The folder's lock, held while writing: a running `run` holds it (and would rewrite these
-    // files when it ends), so writing now would race with it.
-    let _lock = brdf_experiment::store::DirLock::acquire(&dir).with_context(|| {
-        format!(
-            "not writing {} into {}",
-            if plots { "plots" } else { "statistics" },
-            dir.display()
-        )
-    })?;
+    // With a results folder or file, --out names where to write (default: that folder); with
+    // a spec it names the results folder, which is also where the files go.
+    let out = match (&a.out, is_spec) {
+        (Some(o), false) => o.clone(),
+        _ => dir.clone(),
+    };
+    brdf_experiment::input_file::check_out_dir(&out)
+        .map_err(|e| input_error(format!("--out {}: {e}", out.display())))?;
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    // The lock of a results folder written into: a running `run` holds it (and would rewrite
+    // these files when it ends), so writing now would race with it.
+    let what = if plots { "plots" } else { "statistics" };
+    let _lock = super::report::lock_if_results(&out)
+        .with_context(|| format!("not writing {what} into {}", out.display()))?;
     let report = brdf_analysis::report::write_report(
         &spec,
         &contents.records,
         &contents.sessions,
-        &dir,
+        &out,
         plots,
     )?;
     say!("{}", report.table);
-    say!("wrote {} files to {}", report.files.len(), dir.display());
+    say!("wrote {} files to {}", report.files.len(), out.display());
     Ok(())
 }
