@@ -29,8 +29,8 @@ use brdf_experiment::shard::Shard;
 use brdf_experiment::spec::Spec;
 use brdf_model::Kernel;
 
-use crate::folder::Folder;
 use crate::analysis::{Analysis, ChartSet};
+use crate::folder::Folder;
 use crate::report::{Report, write_analysis};
 
 /// What to run, and how.
