@@ -72,6 +72,23 @@ pub struct BuiltInstance {
     pub filter_report: Option<FilterReport>,
 }
 
+/// Generating parameters checked against their family's box with the bounds the model widens
+/// (a spec's `model.bounds`: an exponent of 16,600 is generated when the model admits it).
+struct Within<'a> {
+    params: &'a brdf_model::Params,
+    bounds: &'a std::collections::BTreeMap<String, [f64; 2]>,
+}
+
+impl brdf_model::Reflectance for Within<'_> {
+    fn value(&self, u: [f64; 3], v: [f64; 3]) -> f64 {
+        self.params.value(u, v)
+    }
+    fn check(&self) -> Result<(), brdf_model::ParamError> {
+        self.params
+            .validate_within(|name| self.bounds.get(name).map(|b| (b[0], b[1])))
+    }
+}
+
 /// Reads a data file with the spec's format ([`FileSpec::format_for`]: from the extension
 /// unless named; never a guess) and filters.
 pub fn load_file(spec: &FileSpec, path: &Path) -> Result<(DataSet, FilterReport), DataError> {
@@ -128,8 +145,12 @@ pub fn build(spec: &InstanceSpec) -> Result<BuiltInstance, InstanceError> {
             seed,
             ..
         } => {
+            let truth = Within {
+                params,
+                bounds: &spec.model.bounds,
+            };
             let d =
-                brdf_model::try_synthetic(params, *samples, *sigma, *seed).map_err(|source| {
+                brdf_model::try_synthetic(&truth, *samples, *sigma, *seed).map_err(|source| {
                     InstanceError::Synthetic {
                         instance: spec.name.clone(),
                         source,

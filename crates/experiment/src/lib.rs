@@ -20,6 +20,7 @@
 //! - [`instance`]: building an experiment's data sets and layouts.
 //! - [`input_file`]: reading a spec or results file only when it is a regular file of bounded
 //!   size.
+//! - [`lobe_use`]: how many samples each lobe of a fit covers, and which lobes are dead.
 //! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
 //! - Leaf modules (importing nothing of the crate) holding the plain types the others share:
 //!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`], [`terminal`] (control
@@ -55,6 +56,7 @@ pub mod duration;
 
 pub mod input_file;
 pub mod instance;
+pub mod lobe_use;
 pub mod machine;
 pub mod merge;
 pub mod params;

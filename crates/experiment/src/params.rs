@@ -59,6 +59,18 @@ pub struct ParamsError {
 
 /// Reads a parameter set (see the module docs); `origin` starts every error.
 pub fn parse_params(origin: &str, input: ParamsInput<'_>) -> Result<GivenParams, ParamsError> {
+    parse_params_within(origin, input, &Default::default())
+}
+
+/// [`parse_params`], checking the values against the family's box with some bounds widened:
+/// `bounds` maps parameter names (`lobe1.n`) to the bounds to use instead (a spec's
+/// `model.bounds`). A value beyond its family's box is refused unless such a bound admits it,
+/// and the error then says how to widen it.
+pub fn parse_params_within(
+    origin: &str,
+    input: ParamsInput<'_>,
+    bounds: &std::collections::BTreeMap<String, [f64; 2]>,
+) -> Result<GivenParams, ParamsError> {
     let fail = |message: String| ParamsError {
         origin: origin.to_string(),
         message,
@@ -72,8 +84,23 @@ pub fn parse_params(origin: &str, input: ParamsInput<'_>) -> Result<GivenParams,
     };
     given
         .params
-        .validate()
-        .map_err(|e| fail(format!("{shown}{e}")))?;
+        .validate_within(|name| bounds.get(name).map(|b| (b[0], b[1])))
+        .map_err(|e| {
+            let hint = match &e {
+                // Only an exponent's box may be widened (brdf_model::MAX_EXPONENT).
+                brdf_model::ParamError::OutOfRange {
+                    name, value, hi, ..
+                } if name.ends_with(".n")
+                    && *value > *hi
+                    && *value <= brdf_model::MAX_EXPONENT
+                    && !bounds.contains_key(name) =>
+                {
+                    " (a spec's `model.bounds` or `fit --bounds` widens an exponent's bounds)"
+                }
+                _ => "",
+            };
+            fail(format!("{shown}{e}{hint}"))
+        })?;
     Ok(given)
 }
 

@@ -48,6 +48,11 @@ fn check_run_plot_stats() {
         "{t}"
     );
     assert!(t.contains("AED phi=1.2"), "{t}");
+    // Issue 45, item 18: check states how many samples the best-known fit's lobes cover.
+    assert!(
+        t.contains("best-known fit's lobe1 on ") && t.contains(" samples (a lobe is on a sample"),
+        "{t}"
+    );
 
     let o = brdf_sls(
         &["run", "tiny.toml", "--threads", "2", "--no-plots"],
@@ -165,12 +170,73 @@ fn gen_info_eval_fit() {
         "{t}"
     );
 
+    assert!(t.contains("lobes: lobe1 on ") && !t.contains("dead"), "{t}");
+    // A second lobe held where d < 0 on every sample is dead, and fit says so.
+    let dead = [
+        "fit",
+        "t.csv",
+        "--lobes",
+        "2",
+        "--fix",
+        "lobe2.cx=0",
+        "--fix",
+        "lobe2.cy=0",
+        "--fix",
+        "lobe2.cz=-1.5",
+        "--cpu-seconds",
+        "0.3",
+        "--target",
+        "0.001",
+    ];
+    let o = brdf_sls(&dead, dir.path());
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("lobe2 dead")
+            && t.contains("warning: lobe2 is dead")
+            && t.contains("1 working lobe(s) of 2"),
+        "{t}"
+    );
+
     let o = brdf_sls(&["info", "missing.csv"], dir.path());
     assert!(!o.status.success());
     assert!(text(&o).contains("missing.csv"));
     let o = brdf_sls(&["fit", "t.csv", "--set", "phy=1"], dir.path());
     assert!(!o.status.success());
     assert!(text(&o).contains("phy"), "{}", text(&o));
+    // Issue 45, items 11 and 12: refused up front with status 2, naming what is wrong.
+    for (args, says) in [
+        (
+            &["fit", "t.csv", "--set", "phi=1.4", "--set", "phi=2"][..],
+            "`phi` given twice",
+        ),
+        (
+            &["fit", "t.csv", "--cpu-seconds", "1e300"][..],
+            "at most 1e7 CPU seconds",
+        ),
+        (&["fit", "p.csv", "--lobes", "10"][..], "needs at least 52"),
+        (
+            &[
+                "fit",
+                "t.csv",
+                "--kind",
+                "isotropic",
+                "--fix",
+                "kd=0.1",
+                "--fix",
+                "lobe1.cxy=-1",
+                "--fix",
+                "lobe1.cz=1",
+                "--fix",
+                "lobe1.n=20",
+            ][..],
+            "every parameter is fixed",
+        ),
+    ] {
+        let o = brdf_sls(args, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(says), "{args:?}: {}", text(&o));
+    }
 }
 
 /// The Cornell data shipped with the repository (absolute, so tests can run elsewhere).

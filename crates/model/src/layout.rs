@@ -67,7 +67,28 @@ pub enum ModelError {
         /// Lobes asked for.
         count: usize,
     },
+    /// Bounds reaching beyond the family's box where that box may not be widened (only an
+    /// exponent's may, up to [`MAX_EXPONENT`]; see [`LayoutBuilder::bounds`]).
+    #[error("bounds [{lo}, {hi}] for `{name}` reach beyond {limit}")]
+    BeyondBox {
+        /// Parameter name.
+        name: String,
+        /// Lower bound given.
+        lo: f64,
+        /// Upper bound given.
+        hi: f64,
+        /// The widest bounds allowed, in words (`its box [-1.5, 1.5] (only an exponent's box
+        /// may be widened)`).
+        limit: String,
+    },
 }
+
+/// The largest exponent a bound may admit (Lafortune's `n`; the Ashikhmin-Shirley and
+/// Blinn-Phong exponents' boxes already reach it). Table 1's box stops at 10,000, but measured
+/// materials need more: 5 of Ngan et al.'s 86 MERL fits reach 16,600. The kernels' accuracy
+/// depends on `n ln d`, not on `n` (the result is 0 or overflows outside `|n ln d| <= 745`),
+/// and `crates/model/tests/kernels.rs` checks every kernel up to this exponent.
+pub const MAX_EXPONENT: f64 = 1e6;
 
 /// The coordinate of the shape parameters ([`Role::Shape`]: Lafortune's exponent, a
 /// roughness): the spec's `exponent` key.
@@ -147,9 +168,19 @@ impl LayoutBuilder {
         Ok(self)
     }
 
-    /// Overrides the physical bounds of `name`.
+    /// Overrides the physical bounds of `name`: inside the family's box (its field's bounds,
+    /// Table 1 for Lafortune) any finite `lo <= hi` in the coordinate's domain; beyond it only
+    /// for an exponent (a shape parameter in the `ln(1 + n)` coordinate: Lafortune's `n`), up
+    /// to `[0, MAX_EXPONENT]` ([`MAX_EXPONENT`]).
     pub fn bounds(mut self, name: &str, lo: f64, hi: f64) -> Result<Self, ModelError> {
+        let family = self.family.clone();
         let p = self.find(name)?;
+        // The family's box: the bounds of the (first) field the parameter sets.
+        let fields = match p.lobe {
+            Some(_) => family.lobe_fields(),
+            None => family.shared_fields(),
+        };
+        let (box_lo, box_hi) = fields[p.def.fields[0]].bounds;
         let bad = |why| ModelError::InvalidBounds {
             name: name.to_string(),
             lo,
@@ -170,6 +201,29 @@ impl LayoutBuilder {
         }
         if p.def.coord == Coord::Log1p && lo < 0.0 {
             return Err(bad("the exponent must be >= 0"));
+        }
+        if lo < box_lo || hi > box_hi {
+            let exponent = p.def.role == Role::Shape && p.def.coord == Coord::Log1p;
+            let limit = if !exponent {
+                Some(format!(
+                    "its box [{box_lo}, {box_hi}] (only an exponent's box may be widened)"
+                ))
+            } else if hi > MAX_EXPONENT {
+                Some(format!(
+                    "[{box_lo}, {MAX_EXPONENT:e}], the widest an exponent's bounds may be (the \
+                     range the kernels are checked over)"
+                ))
+            } else {
+                None
+            };
+            if let Some(limit) = limit {
+                return Err(ModelError::BeyondBox {
+                    name: name.to_string(),
+                    lo,
+                    hi,
+                    limit,
+                });
+            }
         }
         p.lo = lo;
         p.hi = hi;
@@ -509,6 +563,48 @@ mod tests {
         assert!((q.lobes[1].n - 7.0).abs() < 1e-12);
         assert_eq!(q.lobes[1].cy, 0.5);
         assert_eq!(q.lobes[0].pan_deg, 45.0);
+    }
+
+    /// Table 1's box is the default; an exponent's bounds may reach beyond it (measured metals
+    /// need n = 16,600) up to MAX_EXPONENT, and no other parameter's may: the error names the
+    /// bound.
+    #[test]
+    fn only_an_exponent_widens_beyond_the_box() {
+        let b = Layout::builder(&[LobeKind::Isotropic]);
+        let wide = b.clone().bounds("lobe1.n", 0.0, 20000.0).unwrap();
+        let l = wide.clone().build().unwrap();
+        assert!((l.upper()[3] - 20001f64.ln()).abs() < 1e-12);
+        assert_eq!(l.physical_bounds("lobe1.n"), Some((0.0, 20000.0)));
+        assert!(wide.fix("lobe1.n", 16600.0).unwrap().build().is_ok());
+        assert!(b.clone().fix("lobe1.n", 16600.0).unwrap().build().is_err());
+        let e = b.clone().bounds("lobe1.n", 0.0, 2e6).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "bounds [0, 2000000] for `lobe1.n` reach beyond [0, 1e6], the widest an exponent's \
+             bounds may be (the range the kernels are checked over)"
+        );
+        let e = b.clone().bounds("kd", 0.0, 2.0).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "bounds [0, 2] for `kd` reach beyond its box [0, 1] (only an exponent's box may be \
+             widened)"
+        );
+        assert!(matches!(
+            b.bounds("lobe1.cz", -2.0, 1.0),
+            Err(ModelError::BeyondBox { .. })
+        ));
+        // Other families: Ashikhmin-Shirley's exponents already reach 1e6; a roughness (GGX's
+        // alpha, in a log coordinate) keeps its box.
+        let ash = crate::family("ashikhmin-shirley").unwrap();
+        let a = Layout::builder_for(&ash, &[LobeKind::Isotropic]).unwrap();
+        assert!(a.clone().bounds("lobe1.n", 0.0, 1e6).is_ok());
+        assert!(a.bounds("lobe1.n", 0.0, 2e6).is_err());
+        let ggx = crate::family("ggx").unwrap();
+        let g = Layout::builder_for(&ggx, &[LobeKind::Isotropic]).unwrap();
+        assert!(matches!(
+            g.bounds("lobe1.alpha", 1e-4, 1.0),
+            Err(ModelError::BeyondBox { .. })
+        ));
     }
 
     #[test]

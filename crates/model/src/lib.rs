@@ -50,7 +50,9 @@ pub use family::{
     Coord, DEFAULT_FAMILY, Family, FamilyRef, FieldDef, LayoutParam, LobeKind, ParamDef, Role,
 };
 pub use lafortune::{BrdfParams, Lobe, NAMED_PARAMS, named_params};
-pub use layout::{ExponentCoord, Layout, LayoutBuilder, ModelError, is_parameter_name};
+pub use layout::{
+    ExponentCoord, Layout, LayoutBuilder, MAX_EXPONENT, ModelError, is_parameter_name,
+};
 pub use params::{MAX_LOBES, ParamError, Params, Reflectance};
 pub use registry::{FamilyError, family, family_names, register_family};
 pub use samples::Samples;

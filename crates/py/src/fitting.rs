@@ -35,7 +35,7 @@ use crate::support::{input_err, interruptible, run_err, settings, to_python};
 ///
 /// Releases the GIL while fitting; Ctrl-C stops the fit and raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (data, algorithm="aed", *, family="lafortune", lobes=1, kind=None, exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", polish=true, **config))]
+#[pyo3(signature = (data, algorithm="rpls", *, family="lafortune", lobes=1, kind=None, exponent="log1p", fixed=None, target=0.0, cpu_seconds=10.0, seed=1, kernel="auto", descent="default", polish=true, **config))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,

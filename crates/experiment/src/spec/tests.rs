@@ -388,3 +388,51 @@ fn a_model_with_nothing_free_is_refused() {
     let one_free = fixed.replace("kd = 0.1, ", "");
     assert!(parse(&MINI.replace("sigma = 0.1", &format!("sigma = 0.1\n{one_free}"))).is_ok());
 }
+
+/// Issue 45, item 17: measured metals need exponents beyond Table 1's 10,000. Table 1's box
+/// stays the default; `model.bounds` widens an exponent's (the truth of a synthetic instance is
+/// then checked against the widened bound), the bounds enter the fingerprint, and anything
+/// else beyond the box is refused with the bound named.
+#[test]
+fn model_bounds_widen_an_exponent_beyond_table_1() {
+    let steel = |bounds: &str| {
+        MINI.replace(
+            "params = \"tuning\"\nsamples = 500\nsigma = 0.1",
+            &format!(
+                "params = {{ kd = 0.01, lobes = [{{ cx = -1, cy = -1, cz = 1, n = 16600, \
+                 pan_deg = 0 }}] }}\nsamples = 500\nsigma = 0.0\n[instance.model]\n\
+                 kind = \"isotropic\"\n{bounds}"
+            ),
+        )
+    };
+    let e = err(&steel(""));
+    assert!(
+        e.contains("lobe1.n = 16600: expected a finite value in [0, 10000]")
+            && e.contains("`model.bounds`"),
+        "{e}"
+    );
+    let wide = parse(&steel("bounds = { \"lobe1.n\" = [0, 20000] }")).unwrap();
+    let inst = &wide.instances[0];
+    assert_eq!(inst.model.bounds["lobe1.n"], [0.0, 20000.0]);
+    let built = crate::instance::build(inst).unwrap();
+    assert_eq!(
+        built.layout.physical_bounds("lobe1.n"),
+        Some((0.0, 20000.0))
+    );
+    // The bounds are part of the canonical form: another box is another experiment.
+    let other = parse(&steel("bounds = { \"lobe1.n\" = [0, 30000] }")).unwrap();
+    assert_ne!(wide.fingerprint(), other.fingerprint());
+    for (bounds, says) in [
+        (
+            "bounds = { \"lobe1.n\" = [0, 2e6] }",
+            "reach beyond [0, 1e6], the widest an exponent's bounds may be",
+        ),
+        (
+            "bounds = { \"lobe1.n\" = [0, 20000], kd = [0, 2] }",
+            "bounds [0, 2] for `kd` reach beyond its box [0, 1]",
+        ),
+    ] {
+        let e = err(&steel(bounds));
+        assert!(e.contains(says) && e.contains("t.toml:"), "{bounds}: {e}");
+    }
+}

@@ -131,8 +131,24 @@ fn instance(cx: &Ctx<'_>, ri: ParsedInstance, base_dir: &Path) -> Result<Instanc
         ));
     }
     let (targets, relative_targets) = targets(cx, &name, ri.targets)?;
+    // The truth of a synthetic instance is checked against the model's box, with the bounds
+    // the model widens (well-formed entries only: the others are refused with the model).
+    let widened: std::collections::BTreeMap<String, [f64; 2]> = ri
+        .model
+        .as_ref()
+        .and_then(|m| m.get_ref().bounds.as_ref())
+        .map(|b| {
+            b.get_ref()
+                .iter()
+                .filter_map(|(k, v)| match v[..] {
+                    [lo, hi] => Some((k.clone(), [lo, hi])),
+                    _ => None,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     let source = match (ri.synthetic, ri.file, ri.suite) {
-        (Some(s), None, None) => synthetic(cx, &name, line, s)?,
+        (Some(s), None, None) => synthetic(cx, &name, line, s, &widened)?,
         (None, Some(f), None) => file(cx, &name, f, base_dir)?,
         (None, None, Some(s)) => {
             super::suite::source(cx.text, &name, s).map_err(|(l, m)| cx.invalid(l, m))?
@@ -246,11 +262,13 @@ fn synthetic(
     name: &str,
     line: Option<usize>,
     s: ParsedSynthetic,
+    bounds: &std::collections::BTreeMap<String, [f64; 2]>,
 ) -> Result<Source, SpecError> {
     let pline = cx.line(&s.params);
     let origin = format!("instance `{name}`: `synthetic.params`");
-    let given = crate::params::parse_params(&origin, ParamsInput::Toml(s.params.get_ref()))
-        .map_err(|e| cx.invalid(pline, e.to_string()))?;
+    let given =
+        crate::params::parse_params_within(&origin, ParamsInput::Toml(s.params.get_ref()), bounds)
+            .map_err(|e| cx.invalid(pline, e.to_string()))?;
     if !(1..=MAX_SAMPLES).contains(&s.samples) {
         return Err(cx.invalid(
             line,
@@ -411,7 +429,8 @@ fn model(
         let culprit = match &e {
             brdf_model::ModelError::UnknownParameter { name: n, .. }
             | brdf_model::ModelError::InvalidBounds { name: n, .. }
-            | brdf_model::ModelError::FixedOutOfBounds { name: n, .. } => Some(n.clone()),
+            | brdf_model::ModelError::FixedOutOfBounds { name: n, .. }
+            | brdf_model::ModelError::BeyondBox { name: n, .. } => Some(n.clone()),
             brdf_model::ModelError::UnsupportedKind { .. }
             | brdf_model::ModelError::TooManyLobes { .. } => None,
         };

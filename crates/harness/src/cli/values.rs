@@ -50,6 +50,22 @@ pub fn named_number(s: &str) -> Result<(String, f64), String> {
     Ok((k, finite(&v)?))
 }
 
+/// `NAME=LO,HI`, e.g. `lobe1.n=0,20000` (for `--bounds`): two finite numbers, `LO <= HI`.
+pub fn named_bounds(s: &str) -> Result<(String, [f64; 2]), String> {
+    let (k, v) = assignment(s)?;
+    let parts: Vec<&str> = v.split(',').collect();
+    let [lo, hi] = parts[..] else {
+        return Err(format!("`{s}`: expected NAME=LO,HI (two numbers)"));
+    };
+    let (lo, hi) = (finite(lo)?, finite(hi)?);
+    if lo > hi {
+        return Err(format!(
+            "`{s}`: the lower bound {lo} is above the upper {hi}"
+        ));
+    }
+    Ok((k, [lo, hi]))
+}
+
 /// `NAME=VALUE` with a TOML value (`phi=1.2`, `on_failure=restart`; a bare word is a string),
 /// for `--set`.
 pub fn named_toml(s: &str) -> Result<(String, toml::Value), String> {

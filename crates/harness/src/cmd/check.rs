@@ -56,6 +56,16 @@ pub fn check(a: CheckArgs) -> Result<()> {
     if !summary.is_empty() {
         say!("{}", summary.trim_end());
     }
+    // How many samples the best-known fit's lobes cover: a sharp lobe on a few samples of
+    // many makes the best-known RMSE (and every target relative to it) fragile.
+    for (name, (samples, uses)) in &resolved.lobes {
+        say!(
+            "  {name}: best-known fit's {} (a lobe is on a sample where it gives at least {}% \
+             of its peak)",
+            brdf_experiment::lobe_use::describe(uses, *samples),
+            brdf_experiment::lobe_use::COVER * 100.0
+        );
+    }
     say!("fingerprint {}", spec.fingerprint());
     say!(
         "default results directory: {}",

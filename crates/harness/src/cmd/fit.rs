@@ -5,7 +5,9 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use brdf_experiment::progress::ProgressMode;
-use brdf_fit::{FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec};
+use brdf_fit::{
+    FitProgress, FitRequest, Surface, algorithm_config, check_budget, model_spec, with_bounds,
+};
 
 use super::shared::load_non_empty;
 use super::{input_error, say};
@@ -31,6 +33,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         m.exponent,
         m.fixed.iter().cloned(),
     )?;
+    let model = with_bounds(Surface::Cli, model, m.bounds.iter().cloned())?;
     let (data, _) = load_non_empty(&a.data)?;
     let data = Arc::new(data);
     let request = FitRequest {
@@ -105,6 +108,7 @@ pub fn fit(a: FitArgs) -> Result<()> {
         };
         say!("  {name:<width$} {v:>22.17}{tag}");
     }
+    say!("{}", lobes_line(&fit, data.len()));
     let json = serde_json::to_string(&fit.params).context("serialising the parameters")?;
     say!("json: {json}");
     if a.diagnose {
@@ -118,6 +122,31 @@ pub fn fit(a: FitArgs) -> Result<()> {
         say!("\n{}", d.to_markdown().trim_end());
     }
     Ok(())
+}
+
+/// One line on the lobes: the samples each covers, and a warning naming the dead ones
+/// (brdf_experiment::lobe_use).
+fn lobes_line(fit: &brdf_fit::FitOutcome, samples: usize) -> String {
+    use brdf_experiment::lobe_use::{COVER, DEAD_LOBE, describe};
+    let mut line = format!(
+        "lobes: {} (a lobe is on a sample where it gives at least {}% of its peak)",
+        describe(&fit.lobes, samples),
+        COVER * 100.0
+    );
+    let dead = fit.dead_lobes();
+    if !dead.is_empty() {
+        let names: Vec<String> = dead.iter().map(|k| format!("lobe{k}")).collect();
+        line.push_str(&format!(
+            "\nwarning: {} dead (at most {DEAD_LOBE:e} of the data's RMS value on every \
+             sample): the fit has {} working lobe(s) of {}; another seed, a longer \
+             --cpu-seconds or a restarting search (rpls, the default, or aed with --set \
+             stall_limit=10) may revive it, unless fixed parameters hold it dead",
+            names.join(", ") + if dead.len() == 1 { " is" } else { " are" },
+            fit.lobes.len() - dead.len(),
+            fit.lobes.len()
+        ));
+    }
+    line
 }
 
 /// `--progress` for a fit: on a terminal one line updated in place; `auto` shows nothing

@@ -52,8 +52,10 @@ fn pow_clamped(d: __m512d, n: __m512d) -> (__m512d, __m512d) {
         splat(LN2_HI),
         _mm512_sub_pd(_mm512_sub_pd(hfsq, inner), f),
     );
-    // exp(n l). No clamping of x: |n l| <= 1e4 * 745, r stays accurate thanks to the fused
-    // reduction, and scalef saturates to +inf for any k.
+    // exp(n l). No clamping of x: |n l| <= MAX_EXPONENT * 745 = 7.45e8 (the widest exponent
+    // bound, 1e6), so k stays an exact integer; r is accurate wherever the result is
+    // representable (|x| <= 745) thanks to the fused reduction, and scalef saturates to +inf
+    // (or the flush below to 0) for any larger k.
     let x = _mm512_mul_pd(n, l);
     let k = _mm512_roundscale_pd::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(
         _mm512_mul_pd(x, splat(std::f64::consts::LOG2_E)),
