@@ -3,25 +3,11 @@
 #[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
+mod support;
+use support::{brdf_sls, text};
+
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn brdf_sls(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
-        .args(args)
-        .current_dir(cwd)
-        .env("CI", "true")
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
 
 #[test]
 fn help_on_every_command() {

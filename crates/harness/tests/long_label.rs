@@ -4,27 +4,10 @@
 #[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod support;
+use support::{brdf_sls, text};
 
 use brdf_experiment::spec::limits::MAX_LABEL_CHARS;
-
-fn brdf_sls(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
-        .args(args)
-        .current_dir(cwd)
-        .env("CI", "true")
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
 
 /// Two trials of AED labelled `label` and of RPLS on the tiny instance.
 fn spec_text(label: &str) -> String {

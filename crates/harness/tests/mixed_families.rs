@@ -2,8 +2,8 @@
 //! part-way resumes to the plan's end, and the statistics and the report name both
 //! instances with their own family.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod support;
+use support::{brdf_sls, text};
 
 /// GGX data (one suite material, Cornell-like sampling) fitted by GGX and by Lafortune.
 const SPEC: &str = r#"
@@ -37,23 +37,6 @@ family = "lafortune"
 [[algorithm]]
 kind = "rpls"
 "#;
-
-fn brdf_sls(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_brdf-sls"))
-        .args(args)
-        .current_dir(cwd)
-        .env("CI", "true")
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
 
 #[test]
 fn two_families_on_one_data_set_run_resume_and_report() {
