@@ -59,7 +59,8 @@ def python_words(message: str) -> str:
     ],
 )
 def test_bad_fit_arguments_same_message_as_cli(cli, krylon, flags, kwargs):
-    flags = {"--cpu-seconds": "1", **flags}
+    # The algorithm named on both sides: the settings above are AED's.
+    flags = {"--cpu-seconds": "1", "--algorithm": "aed", **flags}
     p = cli("fit", krylon, *(f"{k}={v}" for k, v in flags.items()), check=False)
     assert p.returncode == 2, p.stderr
     data = bs.DataSet.read(krylon)
