@@ -8,7 +8,7 @@
 # Usage: scripts/fetch-alta-data.sh [--git] DIR
 #   DIR    folder to write the .dat files to (created if missing)
 #   --git  fetch with a sparse, blob-less git clone of documents/data instead of curl
-# Then: BRDF_SLS_ALTA_DATA=DIR cargo test -p brdf-model --test alta_data
+# Then: BRDF_SLS_ALTA_DATA=DIR cargo test -p brdf-io --test alta_data
 #
 # Files are taken at ALTA commit $COMMIT (the data last changed in 2015). Each is checked by
 # its git blob id and, where known, its SHA-256; retro-orange-tape.dat was missing from the
@@ -117,4 +117,4 @@ if [ "$status" -ne 0 ]; then
     echo "fetch-alta-data: hashes differ; the files were kept in $dir for inspection" >&2
     exit "$status"
 fi
-echo "done: BRDF_SLS_ALTA_DATA=$dir cargo test -p brdf-model --test alta_data"
+echo "done: BRDF_SLS_ALTA_DATA=$dir cargo test -p brdf-io --test alta_data"

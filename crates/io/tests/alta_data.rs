@@ -1,7 +1,7 @@
 //! ALTA's retro-reflection measurements (CEA-CESTA tapes, ALTA's `documents/data/`), read
 //! from outside the repository: ALTA's data are not shipped here (docs/model.md, "ALTA").
 //! Set `BRDF_SLS_ALTA_DATA` to the folder `scripts/fetch-alta-data.sh` filled, e.g.
-//! `BRDF_SLS_ALTA_DATA=/tmp/alta-data cargo test -p brdf-model --test alta_data`; without it
+//! `BRDF_SLS_ALTA_DATA=/tmp/alta-data cargo test -p brdf-io --test alta_data`; without it
 //! each test prints a note and passes.
 
 use brdf_io::{AltaOutput, DataError, Format, read};
