@@ -9,33 +9,12 @@
 #[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
+mod support;
 use std::os::unix::fs::{FileTypeExt, symlink};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
-
-/// A spec whose 3 trials take milliseconds.
-const SPEC: &str = r#"
-name = "probe"
-seed = 5
-trials = 3
-kernel = "portable"
-
-[budget]
-evaluations = 20000
-
-[[instance]]
-name = "tuning"
-targets = [0.0]
-[instance.synthetic]
-params = "tuning"
-samples = 200
-sigma = 0.1
-seed = 1
-
-[[algorithm]]
-kind = "aed"
-"#;
+use support::PROBE_SPEC as SPEC;
 
 /// Runs the binary in `dir`, killing it (and failing) after 60 s: a probe that hangs on a
 /// FIFO or reads without end fails instead of blocking the suite. The output is collected by

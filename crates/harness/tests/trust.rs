@@ -3,31 +3,10 @@
 //! edited results files. Each test failed before its fix.
 #![cfg(unix)]
 
+mod support;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-
-/// A spec whose 3 trials take milliseconds.
-const SPEC: &str = r#"
-name = "probe"
-seed = 5
-trials = 3
-kernel = "portable"
-
-[budget]
-evaluations = 20000
-
-[[instance]]
-name = "tuning"
-targets = [0.0]
-[instance.synthetic]
-params = "tuning"
-samples = 200
-sigma = 0.1
-seed = 1
-
-[[algorithm]]
-kind = "aed"
-"#;
+use support::PROBE_SPEC as SPEC;
 
 fn brdf_sls(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_brdf-sls"))

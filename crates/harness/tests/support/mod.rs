@@ -1,6 +1,9 @@
 //! What the command-line tests share: running the built `brdf-sls` as a user would (CI=true,
 //! so no progress bars) and reading what it printed.
 
+// Each test file compiles this module on its own and uses part of it.
+#![allow(dead_code)]
+
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -22,3 +25,26 @@ pub fn text(o: &Output) -> String {
         String::from_utf8_lossy(&o.stderr)
     )
 }
+
+/// A spec whose 3 trials take milliseconds (the probes of hostile input run it).
+pub const PROBE_SPEC: &str = r#"
+name = "probe"
+seed = 5
+trials = 3
+kernel = "portable"
+
+[budget]
+evaluations = 20000
+
+[[instance]]
+name = "tuning"
+targets = [0.0]
+[instance.synthetic]
+params = "tuning"
+samples = 200
+sigma = 0.1
+seed = 1
+
+[[algorithm]]
+kind = "aed"
+"#;
