@@ -15,7 +15,7 @@ use anyhow::{Context, Result};
 use brdf_model::{Evaluator, Layout, LobeKind, family, family_names, synthetic};
 use serde::{Deserialize, Serialize};
 
-use crate::{Goal, cpu_ns_per, opt};
+use crate::{Goal, cpu_ns_per, median_ns_per_computed_evaluation, opt};
 
 /// Samples of a family's instance.
 const SAMPLES: usize = 10_000;
@@ -112,13 +112,10 @@ fn family_row(name: &str, seeds: u64, cutoff: f64) -> Result<FamilyRow> {
             cpu_seconds: Some(cutoff),
             sample_evaluations: None,
         };
-        let mut per_eval: Vec<f64> = (0..seeds)
+        let results: Vec<_> = (0..seeds)
             .map(|s| sls::run_trial(&objective, &config, 1000 + s, budget, 0.0))
-            .filter(|t| t.ended_at.evaluations.total_computed() > 0)
-            .map(|t| t.ended_at.cpu_seconds * 1e9 / t.ended_at.evaluations.total_computed() as f64)
             .collect();
-        per_eval.sort_by(f64::total_cmp);
-        Ok((!per_eval.is_empty()).then(|| per_eval[(per_eval.len() - 1) / 2]))
+        Ok(median_ns_per_computed_evaluation(&results))
     };
     Ok(FamilyRow {
         family: name.to_string(),

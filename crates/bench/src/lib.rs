@@ -415,14 +415,6 @@ fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<Se
                 // Censored runs count as +inf: the median exists when half reached.
                 (2 * v.len() > results.len()).then(|| v[(results.len() - 1) / 2])
             };
-            let mut per_eval: Vec<f64> = results
-                .iter()
-                .filter(|r| r.ended_at.evaluations.total_computed() > 0)
-                .map(|r| {
-                    r.ended_at.cpu_seconds * 1e9 / r.ended_at.evaluations.total_computed() as f64
-                })
-                .collect();
-            per_eval.sort_by(f64::total_cmp);
             rows.push(SearchRow {
                 instance: instance.to_string(),
                 coordinate: coord_name(coord).to_string(),
@@ -442,13 +434,25 @@ fn search_rows(seeds: u64, cutoff: f64, progress: ProgressMode) -> Result<Vec<Se
                         .map(|s| s.evaluations.total_computed() as f64)
                         .collect(),
                 ),
-                ns_per_sample_evaluation: (!per_eval.is_empty())
-                    .then(|| per_eval[(per_eval.len() - 1) / 2]),
+                ns_per_sample_evaluation: median_ns_per_computed_evaluation(&results),
             });
         }
     }
     progress.finish();
     Ok(rows)
+}
+
+/// The median over `results` (trials with at least one computed sample-evaluation) of CPU
+/// nanoseconds per computed sample-evaluation at the trial's end: what a search pays per model
+/// value. `None` when no trial computed any.
+fn median_ns_per_computed_evaluation(results: &[sls::TrialResult]) -> Option<f64> {
+    let mut per_eval: Vec<f64> = results
+        .iter()
+        .filter(|r| r.ended_at.evaluations.total_computed() > 0)
+        .map(|r| r.ended_at.cpu_seconds * 1e9 / r.ended_at.evaluations.total_computed() as f64)
+        .collect();
+    per_eval.sort_by(f64::total_cmp);
+    (!per_eval.is_empty()).then(|| per_eval[(per_eval.len() - 1) / 2])
 }
 
 /// The goals of issue 38 against `searches` and the fastest kernel's values + Jacobian cost
