@@ -26,7 +26,6 @@
 //!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`], [`terminal`] (control
 //!   characters of input escaped for the terminal).
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
-//! - [`merge`]: merging shard folders into one results folder (duplicates, missing trials).
 //! - [`polish`]: full-data descents with the solver's robust preset until it says the point
 //!   is at rest (the end of a fit, the best-known RMSE's last step).
 //! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
@@ -58,7 +57,6 @@ pub mod input_file;
 pub mod instance;
 pub mod lobe_use;
 pub mod machine;
-pub mod merge;
 pub mod params;
 pub mod polish;
 pub mod prepare;

@@ -312,7 +312,7 @@ pub fn run_experiment<E: Executor>(
 
 /// Runs (or resumes) the trials of `spec`'s plan that belong to `shard` (all of them for
 /// `None`) into `out`. Each trial keeps the seed and key it has in the whole plan, so shards
-/// merged by [`crate::merge`] equal a single run. The shard is recorded in the header, and a
+/// merged by the `brdf-merge` crate equal a single run. The shard is recorded in the header, and a
 /// folder written for another shard is refused ([`RunError::ShardMismatch`]).
 pub fn run_shard<E: Executor>(
     spec: &Spec,

@@ -1,6 +1,6 @@
 //! Shards: a deterministic split of an experiment's trial plan into `N` disjoint parts, so one
 //! experiment can run as `N` independent processes (e.g. a Slurm job array) and be merged back
-//! ([`crate::merge`]) into exactly the results of a single run.
+//! (the `brdf-merge` crate) into exactly the results of a single run.
 //!
 //! Shards are numbered from 1: shard `K/N` (`1 <= K <= N`) holds trial `t` of instance `i` and
 //! configuration `c` (indices from 0, as in [`crate::spec::PlannedTrial`]) when

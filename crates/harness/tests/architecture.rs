@@ -34,7 +34,13 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-io"],
     &["sls", "brdf-graphics", "brdf-stress", "brdf-published"],
     &["brdf-experiment"],
-    &["brdf-analysis", "brdf-tune", "brdf-fit", "brdf-workers"],
+    &[
+        "brdf-analysis",
+        "brdf-tune",
+        "brdf-fit",
+        "brdf-workers",
+        "brdf-merge",
+    ],
     &["brdf-bench"],
     &["harness", "brdf-sls-py"],
 ];

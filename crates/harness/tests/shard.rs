@@ -132,7 +132,7 @@ fn in_process_shards_merge_to_the_single_run() {
         assert_eq!(read_results(&out).unwrap().header.shard, Some(shard));
         inputs.push(out);
     }
-    let merged = brdf_experiment::merge::merge(&dir.path().join("merged"), &inputs, false).unwrap();
+    let merged = brdf_merge::merge(&dir.path().join("merged"), &inputs, false).unwrap();
     assert!(merged.missing.is_empty() && merged.duplicates.is_empty());
     assert!(merged.written.is_some());
     assert_eq!(

@@ -1,10 +1,10 @@
 //! `brdf-sls merge`: shard results folders into one results folder, then its statistics,
-//! table and plots (see [`brdf_experiment::merge`]).
+//! table and plots (see [`brdf_merge`]).
 
 use std::collections::BTreeMap;
 
 use anyhow::{Context, Result, anyhow};
-use brdf_experiment::merge::merge as merge_folders;
+use brdf_merge::merge as merge_folders;
 
 use super::{note, say};
 use crate::cli::MergeArgs;

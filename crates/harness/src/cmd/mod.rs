@@ -202,7 +202,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
                         )
                 )
             )
-            || c.downcast_ref::<brdf_experiment::merge::MergeError>()
+            || c.downcast_ref::<brdf_merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())
             || matches!(
                 c.downcast_ref::<brdf_experiment::store::StoreError>(),

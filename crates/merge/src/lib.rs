@@ -1,4 +1,4 @@
-//! Merging results folders (typically the shards of one experiment, see [`crate::shard`]) into
+//! Merging results folders (typically the shards of one experiment, see [`brdf_experiment::shard`]) into
 //! one normal results folder.
 //!
 //! [`merge`] reads every input (a folder or a `trials.jsonl[.gz]` file) and the output folder's
@@ -6,7 +6,7 @@
 //! different data (data hashes), keeps the first copy of every trial key (inputs in the order
 //! given, the output's existing results first) and reports the other copies, lists the trials of
 //! the plan that no input holds, and writes the output's `trials.jsonl` in one atomic
-//! replacement under the folder's lock ([`crate::store::write_results`]).
+//! replacement under the folder's lock ([`brdf_experiment::store::write_results`]).
 //!
 //! The written file is a function of the set of trials and sessions only: the header is the
 //! first input's (without its shard), sessions are deduplicated and sorted by start time, trials
@@ -15,9 +15,9 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
-use crate::shard::Shard;
-use crate::spec::{Spec, SpecError};
-use crate::store::{
+use brdf_experiment::shard::Shard;
+use brdf_experiment::spec::{Spec, SpecError};
+use brdf_experiment::store::{
     Contents, DirLock, Header, LOCK_FILE, Session, StoreError, TrialRecord, read_results,
     results_file, write_results,
 };
@@ -73,7 +73,7 @@ pub enum MergeError {
     },
     /// An input's trial has another seed than the plan's for its key.
     #[error(transparent)]
-    Seed(#[from] crate::seed_check::SeedMismatch),
+    Seed(#[from] brdf_experiment::seed_check::SeedMismatch),
     /// The stored spec text is missing or does not parse.
     #[error("{path}: the stored spec cannot be used: {message}")]
     Spec {
@@ -395,7 +395,7 @@ pub fn merge(
         } else {
             input.path.clone()
         };
-        crate::seed_check::check_seeds_at(&file, &c.records, &c.lines, &plan)?;
+        brdf_experiment::seed_check::check_seeds_at(&file, &c.records, &c.lines, &plan)?;
     }
     let position: HashMap<&str, usize> = plan
         .iter()
