@@ -119,7 +119,9 @@ pub struct Safeguards {
     /// Hold the variables of numerically dead Jacobian columns (scaled column at most `eps`
     /// times the largest) for the iteration, as if on a bound, and zero their columns
     /// (default on): left in, they make `R` so ill-conditioned that the step moves them by
-    /// amounts set by rounding.
+    /// amounts set by rounding. A held variable on a bound still counts as free for the
+    /// convergence verdict when its true gradient `J^T r` points into the box (the hold zeroes
+    /// its `g`), so a dead lobe that could be revived ends with code 7, not 4.
     pub hold_dead_columns: bool,
     /// Make the singular-convergence test step at least as long as x,
     /// `max(singular_test, ||D x||)` (default on): where huge columns make a step of LMAXS a

@@ -60,6 +60,10 @@ impl Workspace {
         } else {
             self.factor_in_place(hold_dead);
         }
+        if hold_dead {
+            // A held column's g below is exactly 0; the active set needs its true sign.
+            self.factors.jtr[..p].copy_from_slice(&self.survey.jtr[..p]);
+        }
         for j in 0..p {
             let cj = &self.factors.r[j * p..(j + 1) * p];
             self.g[j] = self.d[j] * dot(cj, &self.factors.c[..p]);

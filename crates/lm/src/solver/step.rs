@@ -91,13 +91,23 @@ impl Workspace {
     /// bounds coincide), and clears the step.
     /// A numerically dead variable is held too; returns whether one of them is not held by a
     /// bound (then the Gauss-Newton model is singular: [`StepInfo::dead_free`]).
+    ///
+    /// A held dead column's `g` is exactly 0, which would read as "held by its bound" for any
+    /// dead variable on a bound: a lobe killed with its exponent on the upper bound then let
+    /// codes 4 and 5 fire once the live variables converged, although lowering the exponent
+    /// lowers f. So a held dead variable is judged by its true gradient `J^T r`, as N2FB (which
+    /// holds nothing) and the searches' preset judge it.
     pub(super) fn hold_active_bounds(&mut self) -> bool {
         let mut dead_free = false;
         for i in 0..self.p {
             let at_lo = self.x[i] <= self.lo[i];
             let at_hi = self.x[i] >= self.hi[i];
-            let bound =
-                (at_lo && self.g[i] >= 0.0) || (at_hi && self.g[i] <= 0.0) || (at_lo && at_hi);
+            let g = if self.factors.dead[i] {
+                self.factors.jtr[i]
+            } else {
+                self.g[i]
+            };
+            let bound = (at_lo && g >= 0.0) || (at_hi && g <= 0.0) || (at_lo && at_hi);
             dead_free |= self.factors.dead_seen[i] && !bound;
             self.fixed[i] = bound || self.factors.dead[i];
             self.step[i] = 0.0;

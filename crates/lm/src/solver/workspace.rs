@@ -40,7 +40,7 @@ impl Required {
 }
 
 /// Vectors of length `p`, `m` and matrices `p x p` in the workspace.
-const P_VECTORS: usize = 37;
+const P_VECTORS: usize = 38;
 const M_VECTORS: usize = 6;
 const P_MATRICES: usize = 12;
 
@@ -66,6 +66,9 @@ pub(super) struct Factorisation {
     /// verdict needs it in every preset, because a free dead column makes the Gauss-Newton
     /// model singular, and a singular model's zero NREDUC does not show a minimum.
     pub(super) dead_seen: Vec<bool>,
+    /// `J^T r` at the factored point, recomputed from the Jacobian ([`JacobianSurvey::jtr`]):
+    /// a held dead column's `g` is exactly 0, so the active set reads its bound from this.
+    pub(super) jtr: Vec<f64>,
     /// `J^T J` (unscaled).
     pub(super) jtj: Vec<f64>,
 }
@@ -274,6 +277,7 @@ impl Workspace {
             &mut self.factors.c,
             &mut self.factors.col_scale,
             &mut self.factors.col_max,
+            &mut self.factors.jtr,
             &mut self.survey.col_sq,
             &mut self.survey.col_amax,
             &mut self.survey.jtr,
