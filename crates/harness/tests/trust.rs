@@ -198,7 +198,9 @@ fn edited_seeds_targets_and_negative_times_are_refused_naming_file_line_and_key(
         v["seed"] = (seed ^ 1).into();
     });
     let at = format!("edited/trials.jsonl:{line}");
-    for args in commands {
+    // `run` too: resuming checks seeds (exit 2, as the Python package's InputError).
+    let run: &[&str] = &["run", "probe.toml", "--out", "edited", "--no-plots"];
+    for args in commands.iter().chain([&run]) {
         let o = brdf_sls(dir, args);
         assert_refused(&o, 2, &[&at, "has seed", "the plan's seed"]);
     }

@@ -138,29 +138,10 @@ pub fn input_error(message: impl Into<String>) -> anyhow::Error {
     InputError(message.into()).into()
 }
 
-/// The error and its causes joined by ": ", each cause left out when the message so far
-/// already holds it. Many errors here say `"{path}: {source}"` and also return the source as
-/// their cause, so the plain chain printed the operating system's message twice.
+/// The error and its causes joined by ": ", each cause printed once: the message the Python
+/// package raises too ([`brdf_analysis::errors::message`]).
 pub fn message(e: &anyhow::Error) -> String {
-    let mut out = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if out.contains(&text) {
-            continue;
-        }
-        // A cause that begins with what its parent ended with ("reading X" then "X: not
-        // found") names the path once: the repeated head is dropped.
-        let text = text
-            .match_indices(": ")
-            .map(|(i, _)| i)
-            .find(|&i| i > 0 && out.ends_with(&text[..i]))
-            .map_or(text.as_str(), |i| &text[i + 2..]);
-        if !out.is_empty() {
-            out.push_str(": ");
-        }
-        out.push_str(text);
-    }
-    out
+    brdf_analysis::errors::message(e)
 }
 
 pub use brdf_analysis::pipeline::written_summary;
@@ -173,47 +154,17 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// True when the error comes from the user's input rather than from running.
+/// True when the error comes from the user's input rather than from running: the
+/// classification the Python package uses too ([`brdf_analysis::errors`]), plus the errors of
+/// the crates only the command line calls (its own flags, `fit`, `merge`).
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
-            || brdf_experiment::input_file::is_refused(c)
-            || c.is::<brdf_experiment::seed_check::SeedMismatch>()
-            || c.is::<brdf_experiment::spec::SpecError>()
-            || c.is::<brdf_analysis::pipeline::ConfigurationsFailed>()
-            || c.is::<brdf_io::DataError>()
-            || c.is::<brdf_model::ModelError>()
-            || c.is::<brdf_model::ParamError>()
-            || c.is::<sls::ConfigError>()
-            || c.is::<brdf_model::KernelError>()
+            || brdf_analysis::errors::is_input_cause(c)
             || c.downcast_ref::<brdf_fit::FitError>()
                 .is_some_and(|f| f.is_input_error())
-            || matches!(
-                c.downcast_ref::<brdf_experiment::run::RunError>(),
-                Some(
-                    brdf_experiment::run::RunError::ShardMismatch { .. }
-                        // `Store` is transparent: the store's error is not in the chain itself.
-                        | brdf_experiment::run::RunError::Store(
-                            brdf_experiment::store::StoreError::FingerprintMismatch { .. }
-                                | brdf_experiment::store::StoreError::DataChanged { .. }
-                                | brdf_experiment::store::StoreError::BothPresent { .. }
-                                | brdf_experiment::store::StoreError::Invalid { .. }
-                                | brdf_experiment::store::StoreError::Corrupt { .. }
-                        )
-                )
-            )
             || c.downcast_ref::<brdf_merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())
-            || matches!(
-                c.downcast_ref::<brdf_experiment::store::StoreError>(),
-                Some(
-                    brdf_experiment::store::StoreError::FingerprintMismatch { .. }
-                        | brdf_experiment::store::StoreError::DataChanged { .. }
-                        | brdf_experiment::store::StoreError::BothPresent { .. }
-                        | brdf_experiment::store::StoreError::Invalid { .. }
-                        | brdf_experiment::store::StoreError::Corrupt { .. }
-                )
-            )
     })
 }
 
