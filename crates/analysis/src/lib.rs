@@ -10,6 +10,8 @@
 //!   the statistics (drawn by `brdf_graphics`).
 //! - [`report`]: statistics and plots for a finished (or partial) results directory.
 //! - [`export`]: results in IOHprofiler's format (IOHanalyzer, iohinspector).
+//! - [`errors`]: which errors are bad input (exit status 2, Python's `InputError`) and which
+//!   are failures while running, for the command line and the Python package alike.
 //! - [`folder`]: a results folder read whole (records, stored spec, notes) for pages and
 //!   comparisons.
 //! - [`html`]: self-contained HTML pages: the report of results folders, a comparison, the
@@ -24,6 +26,7 @@
 
 pub mod analysis;
 pub mod compare;
+pub mod errors;
 pub mod export;
 pub mod figures;
 pub mod folder;

@@ -157,6 +157,11 @@ fn gen_info_eval_fit() {
     );
 
     assert!(t.contains("lobes: lobe1 on ") && !t.contains("dead"), "{t}");
+    // An anisotropic lobe has a mirrored form (pan + 90, x and y swapped): fit says so.
+    assert!(
+        t.contains("same BRDF has other parameter sets") && t.contains("docs/model.md"),
+        "{t}"
+    );
     // A second lobe held where d < 0 on every sample is dead, and fit says so.
     let dead = [
         "fit",

@@ -97,6 +97,7 @@ fn run_report_and_compare_end_to_end() {
         "Success, median and ERT",
         "Pairwise tests",
         "Best fit",
+        "same BRDF has other parameter sets",
         "RTD in CPU seconds - tuning, target RMSE 0.105",
         "sample-evaluations to reach RMSE",
         "Run time vs target error",

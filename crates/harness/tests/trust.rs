@@ -198,7 +198,9 @@ fn edited_seeds_targets_and_negative_times_are_refused_naming_file_line_and_key(
         v["seed"] = (seed ^ 1).into();
     });
     let at = format!("edited/trials.jsonl:{line}");
-    for args in commands {
+    // `run` too: resuming checks seeds (exit 2, as the Python package's InputError).
+    let run: &[&str] = &["run", "probe.toml", "--out", "edited", "--no-plots"];
+    for args in commands.iter().chain([&run]) {
         let o = brdf_sls(dir, args);
         assert_refused(&o, 2, &[&at, "has seed", "the plan's seed"]);
     }
@@ -347,4 +349,39 @@ fn papercuts_trials_line_and_no_empty_folder_after_a_failed_run() {
         !dir.join("old/.lock").exists(),
         "a failed run left .lock behind"
     );
+}
+
+/// Item 23: a results folder that may not be written (a read-only working folder) says to use
+/// --out, for `run`, `stats`, `plot` and `report`. Root ignores permissions, so the test is
+/// skipped where a file can be created in a folder of mode 0555 (CI runs as root: the
+/// message's formatting has a unit test in the harness, `with_out_hint`).
+#[test]
+fn a_read_only_results_folder_says_to_use_out() {
+    use std::os::unix::fs::PermissionsExt;
+    let tmp = with_a_run();
+    let dir = tmp.path();
+    let mode = |p: &Path, m: u32| {
+        std::fs::set_permissions(p, std::fs::Permissions::from_mode(m)).unwrap();
+    };
+    // `done` holds results (and its .lock): no new file may be made in it.
+    let _ = std::fs::remove_file(dir.join("done/.lock"));
+    mode(&dir.join("done"), 0o555);
+    let root = std::fs::write(dir.join("done/probe"), "").is_ok();
+    if !root {
+        for args in [
+            &["stats", "done"][..],
+            &["plot", "done"],
+            &["report", "done"],
+            &["run", "probe.toml", "--out", "done", "--no-plots"],
+        ] {
+            let o = brdf_sls(dir, args);
+            assert_refused(&o, 1, &["use --out DIR to write elsewhere"]);
+        }
+        // A read-only working folder: the default results folder cannot be created.
+        mode(dir, 0o555);
+        let o = brdf_sls(dir, &["run", "probe.toml", "--no-plots"]);
+        mode(dir, 0o755);
+        assert_refused(&o, 1, &["use --out DIR to write elsewhere"]);
+    }
+    mode(&dir.join("done"), 0o755);
 }

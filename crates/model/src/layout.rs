@@ -410,6 +410,36 @@ impl Layout {
     pub fn lobe_count(&self) -> usize {
         self.kinds.len()
     }
+    /// One line for a printed fit saying which other parameter sets give the same BRDF, or
+    /// `None` when there are none (a single lobe without a pan). A fit reached from another
+    /// seed, or a generating parameter set, may be printed in another of these forms, which
+    /// looks like a different answer without it (issue 45.23); docs/model.md, "Equivalent
+    /// parameter sets", states and the model's tests check each form.
+    pub fn equivalence_note(&self) -> Option<String> {
+        let mut forms = Vec::new();
+        if self.kinds.len() > 1 {
+            forms.push("the lobes in another order");
+        }
+        let panned = self.kinds.contains(&LobeKind::Anisotropic)
+            && self
+                .family
+                .lobe_params(LobeKind::Anisotropic)
+                .is_some_and(|defs| defs.iter().any(|d| d.role == Role::Angle));
+        if panned {
+            forms.push(
+                "an anisotropic lobe with pan + or - 90 degrees and its x and y parameters \
+                 swapped (pan -90 and 90 are one angle)",
+            );
+        }
+        (!forms.is_empty()).then(|| {
+            format!(
+                "note: the same BRDF has other parameter sets ({}); see docs/model.md, \
+                 \"Equivalent parameter sets\"",
+                forms.join("; ")
+            )
+        })
+    }
+
     /// The shape parameters' internal coordinate.
     pub fn exponent_coord(&self) -> ExponentCoord {
         self.coord

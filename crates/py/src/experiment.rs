@@ -5,12 +5,13 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
+use brdf_analysis::folder::FolderError;
 use brdf_analysis::pipeline::{Finished, Request};
 use brdf_experiment::progress::ProgressMode;
 use brdf_experiment::run::{RunError, RunOptions, default_threads};
 use brdf_experiment::shard::Shard;
 use brdf_experiment::spec::Spec;
-use brdf_experiment::store::{StoreError, read_results as read_store};
+use brdf_experiment::store::{read_results as read_store, results_file};
 use brdf_workers::pool::{PoolError, Routed, RoutedError, WorkerCommand};
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
@@ -177,28 +178,14 @@ fn run_spec(
 struct Refused(String);
 
 /// An error of a run as InputError (what the command line treats as bad input, exit status
-/// 2) or RunError (status 1), with the command line's message.
+/// 2) or RunError (status 1), with the command line's message. The classification is the
+/// command line's own ([`brdf_analysis::errors::is_input_cause`]), so an edited seed or
+/// target or a negative time in a results file is bad input here as there; only a spec or
+/// instance refused in a worker process is the package's own.
 fn classify(e: anyhow::Error) -> PyErr {
-    let input = e.chain().any(|c| {
-        c.is::<brdf_experiment::spec::SpecError>()
-            || c.is::<Refused>()
-            || c.is::<brdf_analysis::pipeline::ConfigurationsFailed>()
-            || c.is::<brdf_experiment::instance::InstanceError>()
-            || c.is::<brdf_model::KernelError>()
-            || matches!(
-                c.downcast_ref::<RunError>(),
-                Some(
-                    RunError::ShardMismatch { .. }
-                        | RunError::Store(
-                            StoreError::FingerprintMismatch { .. } | StoreError::DataChanged { .. }
-                        )
-                )
-            )
-            || matches!(
-                c.downcast_ref::<StoreError>(),
-                Some(StoreError::FingerprintMismatch { .. } | StoreError::DataChanged { .. })
-            )
-    });
+    let input = e
+        .chain()
+        .any(|c| c.is::<Refused>() || brdf_analysis::errors::is_input_cause(c));
     if input {
         input_err(chain(e))
     } else {
@@ -239,19 +226,21 @@ type Loaded = (
     Vec<String>,
 );
 
-/// The folder's contents, its spec and its statistics, as `brdf-sls stats DIR` computes them.
+/// The folder's contents, its spec and its statistics, as `brdf-sls stats DIR` computes them
+/// (and refuses them: a missing results file, or a stored trial whose seed or target is not
+/// the plan's, is bad input).
 fn load_stats(dir: &Path) -> PyResult<Loaded> {
+    let file = if dir.is_dir() {
+        results_file(dir)
+    } else {
+        dir.to_path_buf()
+    };
+    if !file.is_file() {
+        return Err(classify(FolderError::Missing(dir.to_path_buf()).into()));
+    }
     let contents = read_store(dir)
         .with_context(|| format!("reading results in {}", dir.display()))
-        .map_err(|e| {
-            let input = e.chain().any(|c| c.is::<StoreError>());
-            let message = chain(e);
-            if input {
-                input_err(message)
-            } else {
-                run_err(message)
-            }
-        })?;
+        .map_err(classify)?;
     let mut spec = brdf_analysis::report::stored_spec(&contents, dir).map_err(input_err)?;
     // As `brdf-sls stats`: the recorded best-known RMSEs (computed for older folders). Only
     // relative targets need them; without those, a folder whose data cannot be found again
@@ -272,6 +261,10 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
             warnings.push(format!("no best-known RMSEs: {}", chain(e)));
         }
     }
+    // As `brdf-sls stats`: an edited seed, or a target other than the plan's (once resolved),
+    // is refused rather than mixed into statistics that claim to be seeded.
+    brdf_experiment::seed_check::check_stored(&file, &contents.records, &contents.lines, &spec)
+        .map_err(|e| classify(e.into()))?;
     let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
     Ok((contents, spec, stats, warnings))
 }

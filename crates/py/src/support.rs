@@ -21,9 +21,10 @@ pub fn run_err(message: impl std::fmt::Display) -> PyErr {
     RunError::new_err(message.to_string())
 }
 
-/// An error and its causes as the command line prints them (`anyhow`'s `{:#}`).
+/// An error and its causes as the command line prints them: its own function, so a cause
+/// that repeats its parent (a refused seed inside the run's error) is printed once here too.
 pub fn chain(e: anyhow::Error) -> String {
-    format!("{e:#}")
+    brdf_analysis::errors::message(&e)
 }
 
 /// How often a waiting call looks for Ctrl-C.

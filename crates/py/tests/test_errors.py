@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import numpy as np
@@ -149,3 +150,57 @@ def test_a_budget_too_small_to_evaluate_is_a_run_error():
     data = bs.DataSet.synthetic("tuning", samples=200000)
     with pytest.raises(bs.RunError, match="evaluated no candidate"):
         bs.fit(data, "ds", cpu_seconds=1e-9)
+
+
+def _edit_first_trial(path, edit):
+    """Applies `edit` to the first trial line of the results file `path`."""
+    lines = path.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if '"type":"trial"' in line)
+    record = json.loads(lines[at])
+    edit(record)
+    lines[at] = json.dumps(record)
+    path.write_text("\n".join(lines) + "\n")
+
+
+def _set_seed(r):
+    r["seed"] ^= 1
+
+
+def _set_target(r):
+    r["target"] = 0.5
+
+
+def _set_negative_time(r):
+    r["result"]["ended_at"]["cpu_seconds"] = -1.0
+
+
+EDITS = {"seed": (_set_seed, "has seed"), "target": (_set_target, "has target 0.5"), "time": (_set_negative_time, "is -1")}
+
+
+@pytest.mark.parametrize("what", sorted(EDITS))
+def test_edited_results_refused_like_cli(cli, tmp_path, what):
+    """An edited seed or target, or a negative time, in a results file is bad input for the
+    command line (exit status 2, naming file, line and key): InputError here too, when running
+    again and when reading the results (it was RunError, and read_results used the edit)."""
+    edit, says = EDITS[what]
+    spec = tmp_path / "a.toml"
+    spec.write_text('seed = 1\ntrials = 2\n[budget]\nevaluations = 1e5\n[[instance]]\nname = "t"\ntargets = [0.2]\n[instance.synthetic]\nparams = "tuning"\nsamples = 300\n[[algorithm]]\nkind = "rpls"\n')
+    out = tmp_path / "out"
+    bs.run(spec, out, plots=False, progress="quiet")
+    _edit_first_trial(out / "trials.jsonl", edit)
+    p = cli("stats", out, "--print-only", check=False)
+    assert p.returncode == 2, p.stderr
+    assert says in p.stderr
+    with pytest.raises(bs.InputError, match="trials.jsonl:[0-9]+") as e:
+        bs.read_results(out)
+    assert says in str(e.value)
+    p = cli("run", spec, "--out", out, "--no-plots", "--progress", "quiet", check=False)
+    if p.returncode == 0:
+        # A resume checks seeds and times; a target is checked where results are read.
+        assert what == "target", p.stderr
+        return
+    assert p.returncode == 2, p.stderr
+    with pytest.raises(bs.InputError) as e:
+        bs.run(spec, out, plots=False, progress="quiet")
+    assert str(e.value) == cli_error(p)
+    assert says in str(e.value)

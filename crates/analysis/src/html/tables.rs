@@ -226,6 +226,11 @@ pub fn best_fit(inst: &InstanceSpec, records: &[TrialRecord]) -> String {
             vec![escape(name), v, fixed.into()]
         })
         .collect();
+    // As in `fit`'s output: a mirrored form of the same fit would otherwise read as another.
+    let equivalent = layout
+        .equivalence_note()
+        .map(|n| format!("<p class=\"note\">{}</p>\n", escape(&n)))
+        .unwrap_or_default();
     intro
         + &data_table(
             "params",
@@ -235,4 +240,5 @@ pub fn best_fit(inst: &InstanceSpec, records: &[TrialRecord]) -> String {
             &rows,
             &[1],
         )
+        + &equivalent
 }

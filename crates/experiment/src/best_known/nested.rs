@@ -355,6 +355,28 @@ fn polish_best(
 mod tests {
     use super::*;
 
+    /// The nested layouts docs/experiment-format.md lists: all lobes isotropic, the last lobe
+    /// removed, and neither when a fixed value names a parameter it lacks.
+    #[test]
+    fn nested_layouts_are_the_isotropic_and_the_shorter_model() {
+        use LobeKind::{Anisotropic as A, Isotropic as I};
+        let kinds = |m: &ModelSpec| -> Vec<Vec<LobeKind>> {
+            nested_models(m).into_iter().map(|n| n.kinds).collect()
+        };
+        let two = ModelSpec::simple(2, A);
+        assert_eq!(kinds(&two), vec![vec![I, I], vec![A]]);
+        assert_eq!(kinds(&ModelSpec::simple(2, I)), vec![vec![I]]);
+        assert_eq!(kinds(&ModelSpec::simple(1, A)), vec![vec![I]]);
+        assert!(kinds(&ModelSpec::simple(1, I)).is_empty());
+        // `lobe2.n` fixed: the one-lobe model lacks it; `lobe1.pan` fixed: the isotropic one.
+        let mut fixed = two.clone();
+        fixed.fixed.insert("lobe2.n".into(), 10.0);
+        assert_eq!(kinds(&fixed), vec![vec![I, I]]);
+        let mut fixed = two;
+        fixed.fixed.insert("lobe1.pan".into(), 10.0);
+        assert_eq!(kinds(&fixed), vec![vec![A]]);
+    }
+
     /// Issue 45, item 18: Ngan et al.'s Lafortune fit of tungsten-carbide (green: one lobe of
     /// n = 16,600) on 3,000 direction pairs uniform by solid angle, without noise: its lobe
     /// is on 2 samples. The best of the 32 random starts ends at RMSE 3.2e-6; a start aimed at

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::{
     Contents, LOCK_FILE, PACKED_TRIALS_FILE, StoreError, TRIALS_FILE, io_err, is_packed,
-    parse_contents, read_maybe_packed,
+    parse_contents, read_maybe_packed, write_error,
 };
 
 /// The advisory lock of a results folder, held while a store writes to it (released on drop).
@@ -28,7 +28,7 @@ impl DirLock {
             .create(true)
             .truncate(false)
             .open(&path)
-            .map_err(io_err(&path))?;
+            .map_err(|e| write_error(&path, e))?;
         match file.try_lock() {
             Ok(()) => {}
             Err(std::fs::TryLockError::WouldBlock) => {
@@ -119,7 +119,7 @@ impl LockedFolder {
     /// [`StoreError::Locked`]), then reads its results file, plain or packed, once.
     pub fn lock(dir: &Path) -> Result<Self, StoreError> {
         let created_dir = std::fs::symlink_metadata(dir).is_err();
-        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        std::fs::create_dir_all(dir).map_err(|e| write_error(dir, e))?;
         let created_lock = std::fs::symlink_metadata(dir.join(LOCK_FILE)).is_err();
         let unused = UnusedFolder {
             dir: Some(dir.to_path_buf()),

@@ -71,6 +71,16 @@ pub enum StoreError {
         /// The underlying error.
         source: std::io::Error,
     },
+    /// The results folder, or a file in it, cannot be created or written for want of
+    /// permission (a read-only folder or file system): the message says where else to write,
+    /// since a user in a read-only working folder otherwise gets only the system's error.
+    #[error("{path}: {source}; {WRITE_ELSEWHERE}")]
+    NotWritable {
+        /// The file or directory involved.
+        path: PathBuf,
+        /// The underlying error (permission denied, read-only file system).
+        source: std::io::Error,
+    },
     /// Appending a line failed; the file was cut back to its last complete line, so every
     /// trial written before is kept and a later run resumes from there.
     #[error(
@@ -191,6 +201,29 @@ pub enum StoreError {
         /// Version found in the header.
         found: u32,
     },
+}
+
+/// The hint of [`StoreError::NotWritable`].
+pub const WRITE_ELSEWHERE: &str =
+    "cannot write here (a read-only folder?): use --out DIR to write elsewhere";
+
+/// True when `e` says the path may not be written (permission denied, read-only file system).
+pub fn is_not_writable(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem
+    )
+}
+
+/// The error of creating or writing `path`: [`StoreError::NotWritable`] (with the hint to use
+/// `--out`) when the path may not be written, else [`StoreError::Io`].
+pub fn write_error(path: &Path, source: std::io::Error) -> StoreError {
+    let path = path.to_path_buf();
+    if is_not_writable(&source) {
+        StoreError::NotWritable { path, source }
+    } else {
+        StoreError::Io { path, source }
+    }
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StoreError + '_ {

@@ -108,6 +108,12 @@ pub fn fit(a: FitArgs) -> Result<()> {
         };
         say!("  {name:<width$} {v:>22.17}{tag}");
     }
+    // Another seed may land on a mirrored form of the same fit (a lobe turned by 90 degrees
+    // with its x and y swapped, the lobes in another order); without this line it reads as
+    // another answer.
+    if let Some(note) = layout.equivalence_note() {
+        say!("{note}");
+    }
     say!("{}", lobes_line(&fit, data.len()));
     let json = serde_json::to_string(&fit.params).context("serialising the parameters")?;
     say!("json: {json}");

@@ -41,17 +41,49 @@ pub fn main() -> std::process::ExitCode {
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
+    let writes = writes_results(&cli.command);
     match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let code = exit_code(&e);
             if code != 0 {
-                let text = message(&e);
+                let text = if writes {
+                    with_out_hint(&e)
+                } else {
+                    message(&e)
+                };
                 let text = brdf_experiment::terminal::safe(&text);
                 let _ = writeln!(std::io::stderr().lock(), "error: {text}");
             }
             ExitCode::from(code)
         }
+    }
+}
+
+/// The commands that write into a results folder (or beside it) unless `--out` says where.
+fn writes_results(command: &Command) -> bool {
+    matches!(
+        command,
+        Command::Run(_) | Command::Stats(_) | Command::Plot(_) | Command::Report(_)
+    )
+}
+
+/// The message of an error of a command that writes results ([`writes_results`]), with the
+/// hint to use `--out` when the cause is a folder that may not be written (permission denied,
+/// read-only file system) and the message does not give it already
+/// ([`brdf_experiment::store::StoreError::NotWritable`] does): a user in a read-only working
+/// folder otherwise learns only that writing failed, not that `--out` avoids it.
+pub fn with_out_hint(e: &anyhow::Error) -> String {
+    use brdf_experiment::store::{WRITE_ELSEWHERE, is_not_writable};
+    let text = message(e);
+    let denied = e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(is_not_writable)
+    });
+    if denied && !text.contains(WRITE_ELSEWHERE) {
+        format!("{text}; {WRITE_ELSEWHERE}")
+    } else {
+        text
     }
 }
 
@@ -138,29 +170,10 @@ pub fn input_error(message: impl Into<String>) -> anyhow::Error {
     InputError(message.into()).into()
 }
 
-/// The error and its causes joined by ": ", each cause left out when the message so far
-/// already holds it. Many errors here say `"{path}: {source}"` and also return the source as
-/// their cause, so the plain chain printed the operating system's message twice.
+/// The error and its causes joined by ": ", each cause printed once: the message the Python
+/// package raises too ([`brdf_analysis::errors::message`]).
 pub fn message(e: &anyhow::Error) -> String {
-    let mut out = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if out.contains(&text) {
-            continue;
-        }
-        // A cause that begins with what its parent ended with ("reading X" then "X: not
-        // found") names the path once: the repeated head is dropped.
-        let text = text
-            .match_indices(": ")
-            .map(|(i, _)| i)
-            .find(|&i| i > 0 && out.ends_with(&text[..i]))
-            .map_or(text.as_str(), |i| &text[i + 2..]);
-        if !out.is_empty() {
-            out.push_str(": ");
-        }
-        out.push_str(text);
-    }
-    out
+    brdf_analysis::errors::message(e)
 }
 
 pub use brdf_analysis::pipeline::written_summary;
@@ -173,47 +186,17 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// True when the error comes from the user's input rather than from running.
+/// True when the error comes from the user's input rather than from running: the
+/// classification the Python package uses too ([`brdf_analysis::errors`]), plus the errors of
+/// the crates only the command line calls (its own flags, `fit`, `merge`).
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
-            || brdf_experiment::input_file::is_refused(c)
-            || c.is::<brdf_experiment::seed_check::SeedMismatch>()
-            || c.is::<brdf_experiment::spec::SpecError>()
-            || c.is::<brdf_analysis::pipeline::ConfigurationsFailed>()
-            || c.is::<brdf_io::DataError>()
-            || c.is::<brdf_model::ModelError>()
-            || c.is::<brdf_model::ParamError>()
-            || c.is::<sls::ConfigError>()
-            || c.is::<brdf_model::KernelError>()
+            || brdf_analysis::errors::is_input_cause(c)
             || c.downcast_ref::<brdf_fit::FitError>()
                 .is_some_and(|f| f.is_input_error())
-            || matches!(
-                c.downcast_ref::<brdf_experiment::run::RunError>(),
-                Some(
-                    brdf_experiment::run::RunError::ShardMismatch { .. }
-                        // `Store` is transparent: the store's error is not in the chain itself.
-                        | brdf_experiment::run::RunError::Store(
-                            brdf_experiment::store::StoreError::FingerprintMismatch { .. }
-                                | brdf_experiment::store::StoreError::DataChanged { .. }
-                                | brdf_experiment::store::StoreError::BothPresent { .. }
-                                | brdf_experiment::store::StoreError::Invalid { .. }
-                                | brdf_experiment::store::StoreError::Corrupt { .. }
-                        )
-                )
-            )
             || c.downcast_ref::<brdf_merge::MergeError>()
                 .is_some_and(|m| m.is_input_error())
-            || matches!(
-                c.downcast_ref::<brdf_experiment::store::StoreError>(),
-                Some(
-                    brdf_experiment::store::StoreError::FingerprintMismatch { .. }
-                        | brdf_experiment::store::StoreError::DataChanged { .. }
-                        | brdf_experiment::store::StoreError::BothPresent { .. }
-                        | brdf_experiment::store::StoreError::Invalid { .. }
-                        | brdf_experiment::store::StoreError::Corrupt { .. }
-                )
-            )
     })
 }
 
@@ -315,6 +298,36 @@ mod tests {
         // A different path is not a repetition.
         let e = anyhow::anyhow!("b.toml: bad").context("reading a.toml");
         assert_eq!(message(&e), "reading a.toml: b.toml: bad");
+    }
+
+    /// A folder that may not be written gets the hint to use --out, once, whichever layer
+    /// reported it; other I/O errors get none.
+    #[test]
+    fn a_read_only_folder_gets_the_hint_to_use_out_once() {
+        use brdf_experiment::store::{WRITE_ELSEWHERE, write_error};
+        use std::io::{Error, ErrorKind};
+        let denied = || {
+            Error::new(
+                ErrorKind::PermissionDenied,
+                "Permission denied (os error 13)",
+            )
+        };
+        let plain = anyhow::Error::new(denied()).context("writing r/stats.json");
+        assert_eq!(
+            with_out_hint(&plain),
+            format!("writing r/stats.json: Permission denied (os error 13); {WRITE_ELSEWHERE}")
+        );
+        let rofs = Error::new(ErrorKind::ReadOnlyFilesystem, "Read-only file system");
+        let rofs = anyhow::Error::new(rofs).context("creating r");
+        assert!(with_out_hint(&rofs).ends_with(WRITE_ELSEWHERE));
+        let store = anyhow::Error::new(write_error("r/.lock".as_ref(), denied()))
+            .context("running experiment `x`");
+        let text = with_out_hint(&store);
+        assert_eq!(text.matches(WRITE_ELSEWHERE).count(), 1, "{text}");
+        assert!(text.contains("r/.lock"), "{text}");
+        let full = Error::new(ErrorKind::StorageFull, "No space left on device");
+        let full = anyhow::Error::new(write_error("r/trials.jsonl".as_ref(), full));
+        assert!(!with_out_hint(&full).contains("--out"));
     }
 
     #[test]

@@ -6,7 +6,8 @@
 //! - A mirror-like (forward) lobe has `Cx = Cy < 0 < Cz`, a retro-reflective one `Cx = Cy > 0`;
 //!   Phong is `-Cx = -Cy = Cz`.
 //! - `u'`, `v'` are `u`, `v` rotated about the normal by the lobe's pan angle (degrees):
-//!   `u'x = cos(p) ux + sin(p) uy`, `u'y = -sin(p) ux + cos(p) uy`.
+//!   `u'x = cos(p) ux + sin(p) uy`, `u'y = -sin(p) ux + cos(p) uy`: a positive pan turns the
+//!   lobe's axes counter-clockwise about the normal seen from above (+x towards +y).
 //! - `kd` is the constant BRDF term (the paper's "Diffuse"); the diffuse albedo is
 //!   `rho_d = pi * kd`. Each lobe's scale `rho_s` is folded into its C's.
 //! - A clamped dot product `d <= 0` contributes 0 for every `n` (also `n = 0`).

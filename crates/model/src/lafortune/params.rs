@@ -32,7 +32,11 @@ pub struct Lobe {
     pub cz: f64,
     /// Specular exponent (Table 1: `[0, 10000]`).
     pub n: f64,
-    /// Rotation of the lobe's x axis about the normal, in degrees (Table 1: `[-90, 90]`).
+    /// Rotation of the lobe's x axis about the normal, in degrees (Table 1: `[-90, 90]`). A
+    /// positive pan turns the lobe's axes counter-clockwise seen from above (from +x towards
+    /// +y): the lobe turned by `+phi` at directions turned by `+phi` is the unturned lobe at
+    /// the unturned directions. `(cx, cy, pan)` and `(cy, cx, pan + 90)` are the same lobe
+    /// (docs/model.md, "Equivalent parameter sets"; tests/equivalences.rs).
     #[serde(default)]
     pub pan_deg: f64,
 }
