@@ -360,7 +360,7 @@ pub fn run_locked<E: Executor>(
         Some(s) => s.select(spec.trials_plan()),
         None => spec.trials_plan(),
     };
-    crate::seed_check::check_seeds(opened.store.path(), &opened.records, &plan)?;
+    crate::seed_check::check_resume(opened.store.path(), &opened.records, spec, &plan)?;
     let plan_keys: HashSet<&str> = plan.iter().map(|t| t.key.as_str()).collect();
     let done: HashSet<String> = opened
         .records

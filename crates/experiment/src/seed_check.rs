@@ -50,17 +50,21 @@ impl std::fmt::Display for Mismatched {
     }
 }
 
-/// Checks each stored record of a planned key against the plan's seed (a resume, where the
-/// targets are checked apart).
-pub fn check_seeds(
+/// Checks each stored record of a key in `plan` (a shard of `spec`'s plan, or all of it)
+/// against the seed it derives and the instance's run target, as [`check_stored`] does: a
+/// resume never adds trials to results whose seeds or targets were edited.
+pub fn check_resume(
     path: &Path,
     records: &[TrialRecord],
+    spec: &Spec,
     plan: &[PlannedTrial],
 ) -> Result<(), SeedMismatch> {
-    check_seeds_at(path, records, &[], plan)
+    check(path, records, &[], &planned_with_targets(spec, plan))
 }
 
-/// [`check_seeds`] with the 1-based line of each record when known (as in [`check_stored`]).
+/// Checks each stored record of a key in `plan` against the seed it derives, not the target
+/// (`merge`, whose spec's relative targets are not resolved: the commands that read the merged
+/// folder check them), with the 1-based line of each record when known (as in [`check_stored`]).
 pub fn check_seeds_at(
     path: &Path,
     records: &[TrialRecord],
@@ -86,9 +90,13 @@ pub fn check_stored(
     lines: &[usize],
     spec: &Spec,
 ) -> Result<(), SeedMismatch> {
-    let plan = spec.trials_plan();
-    let planned: HashMap<&str, (u64, f64)> = plan
-        .iter()
+    check(path, records, lines, &planned_with_targets(spec, &spec.trials_plan()))
+}
+
+/// Each planned key's seed and run target (the lowest target, once relative targets are
+/// resolved; NaN, which is not checked, while unresolved).
+fn planned_with_targets<'a>(spec: &Spec, plan: &'a [PlannedTrial]) -> HashMap<&'a str, (u64, f64)> {
+    plan.iter()
         .map(|t| {
             let inst = &spec.instances[t.instance];
             let resolved = inst.relative_targets.is_empty() || inst.best_known.is_some();
@@ -99,8 +107,7 @@ pub fn check_stored(
             };
             (t.key.as_str(), (t.seed, target))
         })
-        .collect();
-    check(path, records, lines, &planned)
+        .collect()
 }
 
 /// True when a stored target is the planned one: equal, or equal to 1e-9 relative (a

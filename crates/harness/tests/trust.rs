@@ -206,8 +206,9 @@ fn edited_seeds_targets_and_negative_times_are_refused_naming_file_line_and_key(
     }
     let line = edit_first_trial(dir, |v| v["target"] = 0.5.into());
     let at = format!("edited/trials.jsonl:{line}");
-    // merge checks seeds only (a relative target needs the best-known RMSE).
-    for args in &commands[..4] {
+    // merge checks seeds only (a relative target needs the best-known RMSE); a resume checks
+    // targets too.
+    for args in commands[..4].iter().chain([&run]) {
         let o = brdf_sls(dir, args);
         assert_refused(&o, 2, &[&at, "has target 0.5", "the plan's target"]);
     }
