@@ -90,7 +90,12 @@ pub fn check_stored(
     lines: &[usize],
     spec: &Spec,
 ) -> Result<(), SeedMismatch> {
-    check(path, records, lines, &planned_with_targets(spec, &spec.trials_plan()))
+    check(
+        path,
+        records,
+        lines,
+        &planned_with_targets(spec, &spec.trials_plan()),
+    )
 }
 
 /// Each planned key's seed and run target (the lowest target, once relative targets are
