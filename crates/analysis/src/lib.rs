@@ -33,5 +33,6 @@ pub mod folder;
 pub mod html;
 pub mod pipeline;
 pub mod report;
-pub mod stats;
+/// The statistics (the `brdf-stats` crate), under the path they have always had here.
+pub use brdf_stats as stats;
 pub mod stress_charts;

@@ -34,6 +34,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-io"],
     &["sls", "brdf-graphics", "brdf-stress", "brdf-published"],
     &["brdf-experiment"],
+    &["brdf-stats"],
     &[
         "brdf-analysis",
         "brdf-tune",
