@@ -760,10 +760,10 @@ fn bench_writes_its_report_shows_progress_and_rejects_bad_flags() {
     let args = ["bench", "--seeds", "1", "--cutoff", "0.01", "--out", "b"];
     let o = brdf_sls(&[&args[..], &["--progress", "plain"]].concat(), dir.path());
     assert!(o.status.success(), "{}", text(&o));
-    // One plain progress line at the end, counting all 11 search rows.
+    // One plain progress line at the end, counting all 12 search rows.
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("11/11 trials") && err.contains("broad log1p RPLS 1/1"),
+        err.contains("12/12 trials") && err.contains("broad log1p RPLS 1/1"),
         "{err}"
     );
     let md = std::fs::read_to_string(dir.path().join("b/bench.md")).unwrap();
@@ -772,6 +772,7 @@ fn bench_writes_its_report_shows_progress_and_rejects_bad_flags() {
         "| tuning | log1p | RPLS |",
         "| cross | log1p | AERS |",
         "| tuning | raw n | RPLS |",
+        "| tuning | raw n | AERS |",
         "| broad | log1p | AED |",
         "| ggx | anisotropic | 6 |",
     ] {
@@ -779,13 +780,14 @@ fn bench_writes_its_report_shows_progress_and_rejects_bad_flags() {
     }
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("b/bench.json")).unwrap()).unwrap();
-    assert_eq!(json["searches"].as_array().unwrap().len(), 11);
-    // Six goals of the searches, and two per family other than Lafortune.
+    assert_eq!(json["searches"].as_array().unwrap().len(), 12);
+    // Six goals of issue 38, AED and AERS against RPLS on each of the four search rows, and two
+    // per family other than Lafortune.
     let families = json["families"].as_array().unwrap().len();
     assert!(families >= 7, "{families} family rows");
     assert_eq!(
         json["goals"].as_array().unwrap().len(),
-        6 + 2 * (families - 1)
+        6 + 2 * 4 + 2 * (families - 1)
     );
     assert_eq!(json["seeds"], 1);
     assert!(!json["kernels"].as_array().unwrap().is_empty());
