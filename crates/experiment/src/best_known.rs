@@ -28,8 +28,11 @@
 //!   tungsten-carbide fit, n = 16,600, on 2 of 3,000 samples) is often out of reach of the
 //!   random starts. On that fit's noiseless data (seed 5) they ended at RMSE 3.2e-6 and an
 //!   aimed start reached the truth, 2.7e-15; of seeds 1-8 with and without 1% noise, the aimed
-//!   starts lowered the best-known RMSE in 4 of 16 cases, and seed 2 stays at 2.97e-3, 3.7
-//!   times the truth's 8.05e-4 with noise.
+//!   starts lowered the best-known RMSE in 4 of 16 cases. A lobe whose peak falls between
+//!   its samples is missed by a lobe peaking on either: with noise, seed 2 stayed at 2.97e-3
+//!   against the 5.58e-5 of a descent from the truth. So starts are also aimed through two of
+//!   the brightest samples at once (the isotropic lobe of each exponent that takes both
+//!   samples' values), and those reach it.
 //!
 //! The best of all is polished with the solver's robust preset until the solver says it is at
 //! rest ([`crate::polish`]), and the record says which start

@@ -223,7 +223,7 @@ fn fit_layout(
     tried.extend(seeds.iter().map(|(how, _)| how.clone()));
     if !aimed.is_empty() {
         tried.push(format!(
-            "{} starts with the weakest lobe aimed at the {AIMED_SAMPLES} brightest samples",
+            "{} starts with the weakest lobe aimed at the {AIMED_SAMPLES} brightest samples, one or two at a time",
             aimed.len()
         ));
     }
@@ -317,7 +317,78 @@ pub(super) fn aimed_starts(
             out.push((how, p));
         }
     }
+    out.extend(pair_aimed_starts(
+        data, best, &without, weakest, &order, &exponents,
+    ));
     out
+}
+
+/// Starts whose aimed lobe passes through two of the [`AIMED_SAMPLES`] brightest samples at
+/// once: an isotropic lobe `(Cxy (ux vx + uy vy) + Cz uz vz)^n` takes both samples' values
+/// (less the rest of the model) for each exponent of `exponents` when `(Cxy, Cz)` solve the
+/// 2 x 2 linear system of the `n`-th roots. A lobe narrower than the sampling's spacing whose
+/// peak falls between samples is missed by a lobe peaking on either one: on Ngan et al.'s
+/// tungsten-carbide fit (n = 16,600; 3,000 uniform pairs, 1% noise, seed 2) every start aimed
+/// at one sample ended at RMSE 2.97e-3 and the pair start reaches the truth's descent.
+fn pair_aimed_starts(
+    data: &DataSet,
+    best: &Params,
+    without: &Params,
+    weakest: usize,
+    order: &[usize],
+    exponents: &[f64],
+) -> Vec<(String, Params)> {
+    let top: Vec<usize> = order.iter().copied().take(AIMED_SAMPLES).collect();
+    let mut out = Vec::new();
+    for (r1, &i1) in top.iter().enumerate() {
+        for (r2, &i2) in top.iter().enumerate().skip(r1 + 1) {
+            for &n in exponents {
+                let Some((cxy, cz)) = lobe_through(data, without, [i1, i2], n) else {
+                    continue;
+                };
+                let mut p = best.clone();
+                let lobe = p.lobe_mut(weakest);
+                lobe[..4].copy_from_slice(&[cxy, cxy, cz, n]);
+                if let Some(pan) = lobe.get_mut(4) {
+                    *pan = 0.0;
+                }
+                let how = format!(
+                    "lobe{} through the brightest samples {} and {} (n = {n})",
+                    weakest + 1,
+                    r1 + 1,
+                    r2 + 1
+                );
+                out.push((how, p));
+            }
+        }
+    }
+    out
+}
+
+/// `(Cxy, Cz)` of the isotropic lobe of exponent `n` that gives samples `rows` their values
+/// less `without`'s there; `None` when a remainder is not positive or the system is singular.
+fn lobe_through(data: &DataSet, without: &Params, rows: [usize; 2], n: f64) -> Option<(f64, f64)> {
+    let mut a = [0.0; 2];
+    let mut b = [0.0; 2];
+    let mut t = [0.0; 2];
+    for (k, &i) in rows.iter().enumerate() {
+        let (u, v) = (data.u(i), data.v(i));
+        let rest = data.value(i) - without.value(u, v);
+        if !(rest > 0.0) {
+            return None;
+        }
+        a[k] = u[0] * v[0] + u[1] * v[1];
+        b[k] = u[2] * v[2];
+        t[k] = rest.powf(1.0 / n.max(1.0));
+    }
+    let det = a[0] * b[1] - a[1] * b[0];
+    let scale = (a[0].abs() + b[0].abs()) * (a[1].abs() + b[1].abs());
+    if !(det.abs() > 1e-12 * scale) {
+        return None;
+    }
+    let cxy = (t[0] * b[1] - t[1] * b[0]) / det;
+    let cz = (a[0] * t[1] - a[1] * t[0]) / det;
+    (cxy.is_finite() && cz.is_finite()).then_some((cxy, cz))
 }
 
 /// Descends to rest once more from the best point; returns its RMSE, the point and a note.
@@ -377,10 +448,49 @@ mod tests {
         assert_eq!(kinds(&fixed), vec![vec![A]]);
     }
 
+    /// Issue 45, item 18, the rest: with 1% noise and instance seed 2 the same fit's lobe lies
+    /// between its 2 samples; the starts aimed at one sample ended at RMSE 2.97e-3, 53 times
+    /// the 5.58e-5 of the descent from the truth; a start through two samples reaches it.
+    #[test]
+    fn pair_aimed_starts_find_a_lobe_between_two_samples() {
+        use brdf_published::suite::{Noise, Sampling, generate, suite};
+        let m = suite("ngan-lafortune")
+            .unwrap()
+            .material("tungsten-carbide", brdf_io::Channel::Green)
+            .unwrap();
+        let noise = Noise {
+            relative: 0.01,
+            absolute: 0.0,
+        };
+        let data = Arc::new(generate(&m.params, Sampling::Uniform, 3000, noise, 2).unwrap());
+        let layout = Layout::builder(&[LobeKind::Isotropic])
+            .bounds("lobe1.n", 0.0, 20000.0)
+            .unwrap()
+            .build()
+            .unwrap();
+        let samples = Arc::new(layout.prepare(&data));
+        assert_eq!(crate::lobe_use::lobe_use(&m.params, &data)[0].covered, 2);
+        let truth = fit_layout(&data, &samples, &layout, Some(&m.params), &[], false);
+        let truth = truth.from_truth.unwrap();
+        let found = fit_layout(&data, &samples, &layout, None, &[], true);
+        assert!(
+            found.rmse <= truth * (1.0 + 1e-6),
+            "{} against the truth's descent {truth}: {}",
+            found.rmse,
+            found.provenance
+        );
+        assert!(
+            found.origin.contains("through the brightest samples"),
+            "{}",
+            found.origin
+        );
+    }
+
     /// Issue 45, item 18: Ngan et al.'s Lafortune fit of tungsten-carbide (green: one lobe of
     /// n = 16,600) on 3,000 direction pairs uniform by solid angle, without noise: its lobe
     /// is on 2 samples. The best of the 32 random starts ends at RMSE 3.2e-6; a start aimed at
-    /// the third brightest sample reaches the truth (2.7e-15).
+    /// the third brightest sample reached the truth (2.7e-15), one through two samples now
+    /// reaches it first.
     #[test]
     fn aimed_starts_find_a_lobe_on_a_few_samples() {
         use brdf_published::suite::{Noise, Sampling, generate, suite};
@@ -404,7 +514,7 @@ mod tests {
         let found = fit_layout(&data, &samples, &layout, None, &[], true);
         assert!(random.rmse > 1e-6, "{}", random.provenance);
         assert!(
-            found.rmse < 1e-12 && found.origin.contains("aimed at the brightest sample"),
+            found.rmse < 1e-12 && found.origin.contains("brightest sample"),
             "{}: {}",
             found.rmse,
             found.provenance
