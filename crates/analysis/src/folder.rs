@@ -87,11 +87,12 @@ impl Folder {
             dir: path.to_path_buf(),
             source,
         })?;
-        let resolved = brdf_experiment::best_known::resolve(&mut spec, contents.best_known())
-            .map_err(|e| FolderError::BestKnown {
+        let resolved = brdf_best_known::resolve(&mut spec, contents.best_known()).map_err(|e| {
+            FolderError::BestKnown {
                 dir: path.to_path_buf(),
                 message: e.to_string(),
-            })?;
+            }
+        })?;
         brdf_experiment::seed_check::check_stored(
             &file,
             &contents.records,

@@ -21,8 +21,8 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use brdf_best_known::prepare::{PrepareError, prepare};
 use brdf_experiment::instance::BuiltInstance;
-use brdf_experiment::prepare::{PrepareError, prepare};
 use brdf_experiment::progress::ProgressMode;
 use brdf_experiment::run::{Executor, RunOptions, RunOutcome, run_locked};
 use brdf_experiment::shard::Shard;

@@ -252,7 +252,7 @@ fn with_best_known(spec: &Spec, analysis: &Analysis, mut table: String) -> Strin
     if !table.ends_with('\n') {
         table.push('\n');
     }
-    table.push_str(&brdf_experiment::best_known::summary(spec));
+    table.push_str(&brdf_best_known::summary(spec));
     for w in &analysis.warnings {
         table.push_str(w);
         table.push('\n');

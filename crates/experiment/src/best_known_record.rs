@@ -1,6 +1,6 @@
 //! The best-known RMSE of an instance as recorded with results: a plain record shared by the
 //! spec (resolved targets), the results store (header and session lines) and
-//! [`crate::best_known`], which computes it. A leaf: it imports nothing of the crate.
+//! `brdf_best_known`, which computes it. A leaf: it imports nothing of the crate.
 
 use serde::{Deserialize, Serialize};
 

@@ -10,8 +10,6 @@
 //! - [`store`]: the results file `trials.jsonl`, with an advisory lock per folder, appends
 //!   per line, resume, torn-line recovery, packed `.gz` read transparently, refusal of a
 //!   different spec or different data; and atomic writes of derived files.
-//! - [`prepare`]: the one step before a run: lock, read the results once, build each instance
-//!   once, resolve the best-known RMSEs.
 //! - [`run`]: the parallel runner (rayon), data sets built once and shared.
 //! - [`progress`]: progress bars or plain progress lines.
 //! - [`machine`]: CPU model and thread count recorded with results.
@@ -20,14 +18,12 @@
 //! - [`instance`]: building an experiment's data sets and layouts.
 //! - [`input_file`]: reading a spec or results file only when it is a regular file of bounded
 //!   size.
-//! - [`lobe_use`]: how many samples each lobe of a fit covers, and which lobes are dead.
-//! - [`best_known`]: the best-known RMSE of an instance (relative targets, closeness warnings).
+//! - The best-known RMSE (relative targets, closeness warnings), the lobes' sample coverage,
+//!   the polish and the one step before a run (`prepare`) are the `brdf-best-known` crate's.
 //! - Leaf modules (importing nothing of the crate) holding the plain types the others share:
 //!   [`best_known_record`], [`trial_key`], [`duration`], [`choice`], [`terminal`] (control
 //!   characters of input escaped for the terminal).
 //! - [`shard`]: splitting the trial plan into `K/N` shards (one process or job array task each).
-//! - [`polish`]: full-data descents with the solver's robust preset until it says the point
-//!   is at rest (the end of a fit, the best-known RMSE's last step).
 //! - [`params`]: the one reader of parameter sets (a name, JSON, `@FILE` or a TOML table).
 //! - [`python_kind`]: `kind = "python"`, algorithms written in Python, as specs and results
 //!   name them.
@@ -48,18 +44,14 @@ pub const PROGRAM_VERSION: &str = concat!(
     ")"
 );
 
-pub mod best_known;
 pub mod best_known_record;
 pub mod choice;
 pub mod duration;
 
 pub mod input_file;
 pub mod instance;
-pub mod lobe_use;
 pub mod machine;
 pub mod params;
-pub mod polish;
-pub mod prepare;
 pub mod progress;
 pub mod python_kind;
 pub mod run;

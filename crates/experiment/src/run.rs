@@ -88,7 +88,7 @@ impl SlsExecutor {
     }
 
     /// The executor of `spec` on instances already built (`built[i]` is instance `i`, as
-    /// [`crate::prepare::prepare`] gives them), evaluated with `kernel` (resolved here), which
+    /// `brdf_best_known::prepare::prepare` gives them), evaluated with `kernel` (resolved here), which
     /// also becomes the solver's process-wide kernel ([`bounded_lm::set_kernel`]).
     pub fn from_built(
         spec: &Spec,
@@ -324,7 +324,7 @@ pub fn run_shard<E: Executor>(
     run_locked(spec, shard, LockedFolder::lock(out)?, options, executor)
 }
 
-/// [`run_shard`] into a folder already locked and read ([`crate::prepare::prepare`]): the
+/// [`run_shard`] into a folder already locked and read (`brdf_best_known::prepare::prepare`): the
 /// results file is not read again.
 pub fn run_locked<E: Executor>(
     spec: &Spec,

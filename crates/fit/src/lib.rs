@@ -121,20 +121,20 @@ pub struct FitRequest {
 /// The full-data descents after the search: the search may stop anywhere (budget, target,
 /// a subsample's optimum), and a fit should end at a local minimum of the full data. They use
 /// bounded-lm's robust preset and stop where the solver says the point is at rest
-/// ([`brdf_experiment::polish`]).
+/// ([`brdf_best_known::polish`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Polish {
     /// The full-data RMSE of the search's best.
     pub rmse_before: f64,
     /// The full-data RMSE after the descents (never above `rmse_before`).
     pub rmse_after: f64,
-    /// Full-data descents made (at most [`brdf_experiment::polish::MAX_DESCENTS`]).
+    /// Full-data descents made (at most [`brdf_best_known::polish::MAX_DESCENTS`]).
     pub descents: usize,
     /// Wall-clock seconds they took (on top of the search's budget).
     pub wall_seconds: f64,
     /// Where the descents ended: the last one's solver outcome and whether the solver said the
     /// point is at rest.
-    pub rest: brdf_experiment::polish::Rest,
+    pub rest: brdf_best_known::polish::Rest,
 }
 
 /// What one fit gives.
@@ -155,8 +155,8 @@ pub struct FitOutcome {
     /// The polish, when it was asked for.
     pub polish: Option<Polish>,
     /// What each lobe of the fitted parameters does on the data: samples covered, and whether
-    /// it is dead ([`brdf_experiment::lobe_use`]).
-    pub lobes: Vec<brdf_experiment::lobe_use::LobeUse>,
+    /// it is dead ([`brdf_best_known::lobe_use`]).
+    pub lobes: Vec<brdf_best_known::lobe_use::LobeUse>,
 }
 
 impl FitOutcome {
@@ -349,7 +349,7 @@ pub fn fit(
     let rmse = ev.rmse(&x, objective.samples());
     let params = layout.decode(&x);
     Ok(FitOutcome {
-        lobes: brdf_experiment::lobe_use::lobe_use(&params, &data),
+        lobes: brdf_best_known::lobe_use::lobe_use(&params, &data),
         params,
         x,
         layout,
@@ -400,11 +400,11 @@ fn polish(
     if let Some(flag) = interrupt {
         cx.set_interrupt(flag.clone());
     }
-    brdf_experiment::polish::use_robust_solver(&mut cx);
+    brdf_best_known::polish::use_robust_solver(&mut cx);
     let mut x = result.best_x.clone();
     // The start is the first evaluation, so the polished best is never above it.
     let rmse_before = cx.evaluate(&x).map_err(|_| FitError::Interrupted)?;
-    let rest = brdf_experiment::polish::to_rest(&mut cx, &mut x, rmse_before);
+    let rest = brdf_best_known::polish::to_rest(&mut cx, &mut x, rmse_before);
     if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
         return Err(FitError::Interrupted);
     }

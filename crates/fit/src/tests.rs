@@ -154,7 +154,7 @@ fn one_more_descent_gain(objective: &sls::BrdfObjective, x: &[f64], robust: bool
     };
     let mut cx = TrialContext::new(objective, 0, budget, f64::NEG_INFINITY);
     if robust {
-        brdf_experiment::polish::use_robust_solver(&mut cx);
+        brdf_best_known::polish::use_robust_solver(&mut cx);
     }
     let mut x = x.to_vec();
     let before = cx.evaluate(&x).unwrap();
@@ -216,7 +216,7 @@ fn the_polish_ends_where_the_robust_solver_rests() {
         "one more robust descent gained {gain:e} relative"
     );
     // Its second lobe (cz = -1.5: d < 0 on every sample) is dead, the first is not.
-    let used = brdf_experiment::lobe_use::lobe_use(&layout.decode(&x), objective.data());
+    let used = brdf_best_known::lobe_use::lobe_use(&layout.decode(&x), objective.data());
     assert!(!used[0].dead && used[1].dead, "{used:?}");
 }
 

@@ -34,7 +34,7 @@ const LAYERS: &[&[&str]] = &[
     &["brdf-io"],
     &["sls", "brdf-graphics", "brdf-stress", "brdf-published"],
     &["brdf-experiment"],
-    &["brdf-stats"],
+    &["brdf-stats", "brdf-best-known"],
     &[
         "brdf-analysis",
         "brdf-tune",

@@ -246,7 +246,7 @@ fn load_stats(dir: &Path) -> PyResult<Loaded> {
     // relative targets need them; without those, a folder whose data cannot be found again
     // (older folders store data paths relative to the spec) is still read, with a warning.
     let mut warnings = Vec::new();
-    match brdf_experiment::best_known::resolve(&mut spec, contents.best_known()) {
+    match brdf_best_known::resolve(&mut spec, contents.best_known()) {
         // Instances left without a best-known RMSE (their data is not found again) are named.
         Ok(resolved) => warnings.extend(resolved.notes),
         Err(e) => {

@@ -73,8 +73,8 @@ impl Analysis {
         let owned: Vec<TrialRecord> = plan_records(spec, records).into_iter().cloned().collect();
         let groups = stats::group(&owned, &spec.instance_names(), &spec.config_labels());
         let stats = stats::compute(&groups, &spec.targets(), spec.stats.bootstrap, spec.seed);
-        let mut warnings = brdf_experiment::best_known::warnings(spec);
-        warnings.extend(brdf_experiment::best_known::below_best_known(spec, &owned));
+        let mut warnings = brdf_best_known::warnings(spec);
+        warnings.extend(brdf_best_known::below_best_known(spec, &owned));
         let (instances, labels) = (spec.instance_names(), spec.config_labels());
         let summaries = [Measure::Evaluations, Measure::CpuSeconds]
             .map(|m| summary::summarise(&stats, &instances, &labels, m))

@@ -350,7 +350,7 @@ pub struct InstanceSpec {
     /// ascending.
     pub relative_targets: Vec<f64>,
     /// The best-known RMSE of this instance, once computed or read back
-    /// ([`crate::best_known`] computes it).
+    /// (the `brdf-best-known` crate computes it).
     pub best_known: Option<crate::best_known_record::BestKnown>,
     /// The data.
     pub source: Source,

@@ -270,7 +270,7 @@ pub struct Header {
     /// plan, a merged folder, and older files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<crate::shard::Shard>,
-    /// Instance name -> best-known RMSE when the file was created ([`crate::best_known`]).
+    /// Instance name -> best-known RMSE when the file was created (the `brdf-best-known` crate).
     /// Empty in older files.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub best_known: BTreeMap<String, crate::best_known_record::BestKnown>,

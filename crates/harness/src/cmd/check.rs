@@ -1,7 +1,7 @@
 //! `brdf-sls check`: validate a spec and print its plan.
 
 use anyhow::{Context, Result};
-use brdf_experiment::best_known::{CHECK_MAX_SAMPLES, resolve_within, warnings};
+use brdf_best_known::{CHECK_MAX_SAMPLES, resolve_within, warnings};
 use brdf_experiment::run::default_threads;
 
 use super::shared::{default_out, load_spec};
@@ -52,7 +52,7 @@ pub fn check(a: CheckArgs) -> Result<()> {
             String::new()
         }
     );
-    let summary = brdf_experiment::best_known::summary(&spec);
+    let summary = brdf_best_known::summary(&spec);
     if !summary.is_empty() {
         say!("{}", summary.trim_end());
     }
@@ -62,8 +62,8 @@ pub fn check(a: CheckArgs) -> Result<()> {
         say!(
             "  {name}: best-known fit's {} (a lobe is on a sample where it gives at least {}% \
              of its peak)",
-            brdf_experiment::lobe_use::describe(uses, *samples),
-            brdf_experiment::lobe_use::COVER * 100.0
+            brdf_best_known::lobe_use::describe(uses, *samples),
+            brdf_best_known::lobe_use::COVER * 100.0
         );
     }
     say!("fingerprint {}", spec.fingerprint());

@@ -131,9 +131,9 @@ pub fn fit(a: FitArgs) -> Result<()> {
 }
 
 /// One line on the lobes: the samples each covers, and a warning naming the dead ones
-/// (brdf_experiment::lobe_use).
+/// (brdf_best_known::lobe_use).
 fn lobes_line(fit: &brdf_fit::FitOutcome, samples: usize) -> String {
-    use brdf_experiment::lobe_use::{COVER, DEAD_LOBE, describe};
+    use brdf_best_known::lobe_use::{COVER, DEAD_LOBE, describe};
     let mut line = format!(
         "lobes: {} (a lobe is on a sample where it gives at least {}% of its peak)",
         describe(&fit.lobes, samples),

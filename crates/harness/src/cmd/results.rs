@@ -61,18 +61,15 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
         },
     };
     // Recorded best-known RMSEs when the folder has them; computed (seeded) for older folders.
-    let resolved = brdf_experiment::best_known::resolve(&mut spec, contents.best_known())
+    let resolved = brdf_best_known::resolve(&mut spec, contents.best_known())
         .context("finding the best-known RMSEs")?;
     for n in resolved.notes {
         note!("note: {n}");
     }
     let file = brdf_experiment::store::results_file(&dir);
     brdf_experiment::seed_check::check_stored(&file, &contents.records, &contents.lines, &spec)?;
-    let below = brdf_experiment::best_known::below_best_known(&spec, &contents.records);
-    for w in brdf_experiment::best_known::warnings(&spec)
-        .into_iter()
-        .chain(below)
-    {
+    let below = brdf_best_known::below_best_known(&spec, &contents.records);
+    for w in brdf_best_known::warnings(&spec).into_iter().chain(below) {
         note!("{w}");
     }
     if let Some(t) = &contents.torn {
@@ -88,7 +85,7 @@ pub fn results(a: ResultsArgs, plots: bool) -> Result<()> {
     if a.print_only {
         let stats = brdf_analysis::report::compute_stats(&spec, &contents.records);
         say!("{}", brdf_analysis::stats::table(&stats));
-        let summary = brdf_experiment::best_known::summary(&spec);
+        let summary = brdf_best_known::summary(&spec);
         if !summary.is_empty() {
             say!("{}", summary.trim_end());
         }

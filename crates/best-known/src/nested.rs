@@ -16,7 +16,7 @@ use brdf_model::{DataSet, Layout, LobeKind, Params, Samples};
 use sls::{Budget, Search, TrialContext};
 
 use super::{AIMED_EXPONENTS, AIMED_SAMPLES, SEED, STARTS, polish};
-use crate::spec::ModelSpec;
+use brdf_experiment::spec::ModelSpec;
 
 /// The lowest RMSE found for one layout, the parameters reaching it and how.
 #[derive(Clone, Debug)]
@@ -374,7 +374,7 @@ fn lobe_through(data: &DataSet, without: &Params, rows: [usize; 2], n: f64) -> O
     for (k, &i) in rows.iter().enumerate() {
         let (u, v) = (data.u(i), data.v(i));
         let rest = data.value(i) - without.value(u, v);
-        if !(rest > 0.0) {
+        if rest.is_nan() || rest <= 0.0 {
             return None;
         }
         a[k] = u[0] * v[0] + u[1] * v[1];
@@ -383,7 +383,7 @@ fn lobe_through(data: &DataSet, without: &Params, rows: [usize; 2], n: f64) -> O
     }
     let det = a[0] * b[1] - a[1] * b[0];
     let scale = (a[0].abs() + b[0].abs()) * (a[1].abs() + b[1].abs());
-    if !(det.abs() > 1e-12 * scale) {
+    if det.is_nan() || det.abs() <= 1e-12 * scale {
         return None;
     }
     let cxy = (t[0] * b[1] - t[1] * b[0]) / det;

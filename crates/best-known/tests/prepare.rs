@@ -2,10 +2,12 @@
 //! a run reads that file once, and each instance is built once for both the best-known RMSE
 //! and the runner (counted with the library's per-thread diagnostics).
 
+// The experiment crate's test helpers (a tiny spec and its parsing), shared rather than copied.
+#[path = "../../experiment/tests/common/mod.rs"]
 mod common;
 
+use brdf_best_known::prepare::{PrepareError, prepare};
 use brdf_experiment::instance::builds_on_this_thread;
-use brdf_experiment::prepare::{PrepareError, prepare};
 use brdf_experiment::run::{RunOptions, SlsExecutor, run_locked};
 use brdf_experiment::store::{DirLock, StoreError, results_reads_on_this_thread};
 

@@ -6,9 +6,9 @@
 
 use std::path::Path;
 
-use crate::instance::{BuiltInstance, InstanceError};
-use crate::spec::Spec;
-use crate::store::{LockedFolder, StoreError};
+use brdf_experiment::instance::{BuiltInstance, InstanceError};
+use brdf_experiment::spec::Spec;
+use brdf_experiment::store::{LockedFolder, StoreError};
 
 /// A run ready to start.
 #[derive(Debug)]
@@ -20,7 +20,7 @@ pub struct Prepared {
     /// Every instance, built once (`built[i]` is `spec.instances[i]`).
     pub built: Vec<BuiltInstance>,
     /// Lines to show: instances left without a best-known RMSE, closeness warnings
-    /// ([`crate::best_known::run_lines`]).
+    /// ([`crate::run_lines`]).
     pub notes: Vec<String>,
 }
 
@@ -38,10 +38,10 @@ pub enum PrepareError {
 /// Prepares a run of `spec` into `out` (see the module docs).
 pub fn prepare(mut spec: Spec, out: &Path) -> Result<Prepared, PrepareError> {
     let folder = LockedFolder::lock(out)?;
-    let built = crate::instance::build_all(&spec)?;
-    let known = crate::best_known::recorded_for(&spec, folder.contents());
-    let resolved = crate::best_known::resolve_built(&mut spec, &known, &built)?;
-    let notes = crate::best_known::run_lines(&spec, &resolved);
+    let built = brdf_experiment::instance::build_all(&spec)?;
+    let known = crate::recorded_for(&spec, folder.contents());
+    let resolved = crate::resolve_built(&mut spec, &known, &built)?;
+    let notes = crate::run_lines(&spec, &resolved);
     Ok(Prepared {
         spec,
         folder,

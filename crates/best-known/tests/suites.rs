@@ -3,8 +3,8 @@
 //! build their data as `brdf_published::suite::generate` does, run a few trials, and refuse
 //! bad names and values with errors naming the file, the line and the key.
 
+use brdf_best_known::prepare::prepare;
 use brdf_experiment::instance::build;
-use brdf_experiment::prepare::prepare;
 use brdf_experiment::progress::ProgressMode;
 use brdf_experiment::run::{RunOptions, SlsExecutor, run_locked};
 use brdf_experiment::spec::{Source, Spec};

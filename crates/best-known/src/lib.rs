@@ -48,12 +48,15 @@ use std::collections::BTreeMap;
 
 use sls::{DescentLimits, Rows, Search, TrialContext};
 
+pub mod lobe_use;
 mod nested;
+pub mod polish;
+pub mod prepare;
 
-use crate::instance::{BuiltInstance, InstanceError};
 use crate::lobe_use::LobeUse;
-use crate::spec::{InstanceSpec, Source, Spec};
-use crate::store::Contents;
+use brdf_experiment::instance::{BuiltInstance, InstanceError};
+use brdf_experiment::spec::{InstanceSpec, Source, Spec};
+use brdf_experiment::store::Contents;
 
 /// Random starts per instance.
 pub const STARTS: usize = 32;
@@ -75,7 +78,7 @@ pub const AIMED_EXPONENTS: [f64; 2] = [1000.0, 10000.0];
 /// optima seeding the instance's own fit.
 pub const MAX_NESTED: usize = 4;
 
-pub use crate::best_known_record::BestKnown;
+pub use brdf_experiment::best_known_record::BestKnown;
 
 /// Computes the best-known RMSE of one built instance (see the module docs).
 pub fn compute(spec: &InstanceSpec, built: &BuiltInstance) -> Result<BestKnown, InstanceError> {
@@ -140,12 +143,12 @@ pub fn resolve(
     known: &BTreeMap<String, BestKnown>,
 ) -> Result<Resolved, InstanceError> {
     resolve_with(spec, known, None, |_, inst| {
-        crate::instance::build(inst).map(Cow::Owned)
+        brdf_experiment::instance::build(inst).map(Cow::Owned)
     })
 }
 
 /// [`resolve`] with the instances already built (`built[i]` is instance `i`, as
-/// [`crate::instance::build_all`] returns them): those are not built again.
+/// [`brdf_experiment::instance::build_all`] returns them): those are not built again.
 pub fn resolve_built(
     spec: &mut Spec,
     known: &BTreeMap<String, BestKnown>,
@@ -153,7 +156,7 @@ pub fn resolve_built(
 ) -> Result<Resolved, InstanceError> {
     resolve_with(spec, known, None, |i, inst| match built.get(i) {
         Some(b) => Ok(Cow::Borrowed(b)),
-        None => crate::instance::build(inst).map(Cow::Owned),
+        None => brdf_experiment::instance::build(inst).map(Cow::Owned),
     })
 }
 
@@ -166,7 +169,7 @@ pub fn resolve_within(
     max_samples: Option<usize>,
 ) -> Result<Resolved, InstanceError> {
     resolve_with(spec, known, max_samples, |_, inst| {
-        crate::instance::build(inst).map(Cow::Owned)
+        brdf_experiment::instance::build(inst).map(Cow::Owned)
     })
 }
 
@@ -256,7 +259,7 @@ pub fn resolve_for_run(
     spec: &mut Spec,
     dir: Option<&std::path::Path>,
 ) -> Result<Vec<String>, InstanceError> {
-    let contents = dir.and_then(|d| crate::store::read_results(d).ok());
+    let contents = dir.and_then(|d| brdf_experiment::store::read_results(d).ok());
     let known = recorded_for(spec, contents.as_ref());
     let resolved = resolve(spec, &known)?;
     Ok(run_lines(spec, &resolved))
@@ -328,7 +331,10 @@ pub fn warnings(spec: &Spec) -> Vec<String> {
 /// Warnings for instances where a trial reached a lower full-data RMSE than the recorded
 /// best-known one (by more than 1e-9 relative, above rounding): the relative targets and the
 /// closeness warnings were then measured against a reference that is too high.
-pub fn below_best_known(spec: &Spec, records: &[crate::store::TrialRecord]) -> Vec<String> {
+pub fn below_best_known(
+    spec: &Spec,
+    records: &[brdf_experiment::store::TrialRecord],
+) -> Vec<String> {
     let mut out = Vec::new();
     for inst in &spec.instances {
         let Some(bk) = inst.best_known.as_ref().map(|b| b.rmse) else {
@@ -419,7 +425,7 @@ mod tests {
     #[test]
     fn best_known_is_deterministic_and_near_the_noise_level() {
         let s = spec("[0.2]", 0.1);
-        let built = crate::instance::build(&s.instances[0]).unwrap();
+        let built = brdf_experiment::instance::build(&s.instances[0]).unwrap();
         let a = compute(&s.instances[0], &built).unwrap();
         let b = compute(&s.instances[0], &built).unwrap();
         assert_eq!(a, b);
@@ -462,7 +468,7 @@ mod tests {
                  kind = \"isotropic\"\n{model}\n[[algorithm]]\nkind = \"rpls\"\n"
             );
             let s = Spec::parse(&text, "k.toml", "k", &data).unwrap();
-            let built = crate::instance::build(&s.instances[0]).unwrap();
+            let built = brdf_experiment::instance::build(&s.instances[0]).unwrap();
             compute(&s.instances[0], &built).unwrap().rmse
         };
         let ours = krylon("");
@@ -487,7 +493,7 @@ mod tests {
                  [[algorithm]]\nkind = \"rpls\"\n"
             );
             let s = Spec::parse(&text, "a.toml", "a", &data).unwrap();
-            let built = crate::instance::build(&s.instances[0]).unwrap();
+            let built = brdf_experiment::instance::build(&s.instances[0]).unwrap();
             compute(&s.instances[0], &built).unwrap()
         };
         let at_most = |a: &BestKnown, b: &BestKnown| a.rmse <= b.rmse * (1.0 + 1e-12);
@@ -521,7 +527,7 @@ mod tests {
             provenance: None,
         };
         resolve(&mut s, &BTreeMap::from([("t".to_string(), recorded)])).unwrap();
-        let record = |rmse: f64| crate::store::TrialRecord {
+        let record = |rmse: f64| brdf_experiment::store::TrialRecord {
             key: "t/RPLS/0".into(),
             instance: "t".into(),
             config: "RPLS".into(),
@@ -551,7 +557,7 @@ mod tests {
     #[test]
     fn noiseless_best_known_is_near_zero() {
         let s = spec("[0.01]", 0.0);
-        let built = crate::instance::build(&s.instances[0]).unwrap();
+        let built = brdf_experiment::instance::build(&s.instances[0]).unwrap();
         let a = compute(&s.instances[0], &built).unwrap();
         assert!(a.rmse < 1e-6, "{a:?}");
     }

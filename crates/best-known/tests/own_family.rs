@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use brdf_experiment::prepare::prepare;
+use brdf_best_known::prepare::prepare;
 use brdf_experiment::progress::ProgressMode;
 use brdf_experiment::run::{RunOptions, SlsExecutor, run_locked};
 use brdf_model::lobes::{LobeFamily, LobeShape, MAX_COLUMNS, MAX_FIELDS, Math};
