@@ -80,7 +80,12 @@ pub fn with_out_hint(e: &anyhow::Error) -> String {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(is_not_writable)
     });
-    if denied && !text.contains(WRITE_ELSEWHERE) {
+    // Reading the spec or an instance's data is not writing: --out would not help there.
+    let reading_input = e.chain().any(|c| {
+        c.is::<brdf_experiment::spec::SpecError>()
+            || c.is::<brdf_experiment::instance::InstanceError>()
+    });
+    if denied && !reading_input && !text.contains(WRITE_ELSEWHERE) {
         format!("{text}; {WRITE_ELSEWHERE}")
     } else {
         text
@@ -301,7 +306,7 @@ mod tests {
     }
 
     /// A folder that may not be written gets the hint to use --out, once, whichever layer
-    /// reported it; other I/O errors get none.
+    /// reported it; other I/O errors, and a spec that may not be read, get none.
     #[test]
     fn a_read_only_folder_gets_the_hint_to_use_out_once() {
         use brdf_experiment::store::{WRITE_ELSEWHERE, write_error};
@@ -325,6 +330,12 @@ mod tests {
         let text = with_out_hint(&store);
         assert_eq!(text.matches(WRITE_ELSEWHERE).count(), 1, "{text}");
         assert!(text.contains("r/.lock"), "{text}");
+        // An unreadable spec is not a folder to write elsewhere.
+        let spec = brdf_experiment::spec::SpecError::Io {
+            path: "a.toml".into(),
+            source: denied(),
+        };
+        assert!(!with_out_hint(&anyhow::Error::new(spec)).contains("--out"));
         let full = Error::new(ErrorKind::StorageFull, "No space left on device");
         let full = anyhow::Error::new(write_error("r/trials.jsonl".as_ref(), full));
         assert!(!with_out_hint(&full).contains("--out"));
