@@ -11,56 +11,59 @@
 //! isotropic lobes, `LOBES=K`, `RAW=1` raw exponent coordinate, `UNIFORM=1` starts uniform in
 //! the box (else mid-box jittered by `JITTER`, default 0.05 of each width, as the stress
 //! suite's), `SIGMA` noise, `M` subsample size (25), `ALL=1` every case.
-use bounded_lm::{Options, Problem, Solver};
+use bounded_lm::{Options, Problem, Report, SolveError, Solver};
 use brdf_model::{DataSet, Evaluator, Layout, LobeKind, Samples, named_params, synthetic};
+use brdf_stress::diagnose::BrdfFit;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 
-struct Fit<'a> {
-    ev: &'a mut Evaluator,
-    data: &'a Samples,
+/// One solve of the fit of `la` to `samples` from `x` (left at the end point) with `o`.
+fn solve(la: &Layout, samples: &Samples, x: &mut [f64], o: &Options) -> Result<Report, SolveError> {
+    let mut ev = Evaluator::new(la);
+    let mut fit = BrdfFit {
+        ev: &mut ev,
+        data: samples,
+    };
+    Solver::new().solve(&mut fit, x, la.lower(), la.upper(), o)
 }
-impl Problem for Fit<'_> {
-    fn residual_count(&self) -> usize {
-        self.data.len()
-    }
-    fn parameter_count(&self) -> usize {
-        self.ev.layout().dim()
-    }
-    fn residuals(&mut self, x: &[f64], r: &mut [f64]) -> bool {
-        self.ev.residuals(x, self.data, r)
-    }
-    fn jacobian(&mut self, x: &[f64], jac: &mut [f64]) -> bool {
-        self.ev.jacobian(x, self.data, jac)
-    }
+
+/// An argument or variable that does not parse ends the probe with its usage (exit 2).
+fn parsed<T: std::str::FromStr>(what: &str, text: &str) -> T {
+    text.parse().unwrap_or_else(|_| {
+        eprintln!("{what} = {text:?} does not parse; usage: dead_lobe_codes [SEEDS [SUBSAMPLES]]");
+        std::process::exit(2)
+    })
 }
 
 fn main() {
     let args: Vec<u64> = std::env::args()
         .skip(1)
-        .map(|a| a.parse().unwrap())
+        .map(|a| parsed("argument", &a))
         .collect();
     let (seeds, subs) = (
         args.first().copied().unwrap_or(10),
         args.get(1).copied().unwrap_or(10),
     );
-    let tuning = named_params("tuning").unwrap();
+    let tuning = named_params("tuning").expect("a built-in parameter set");
     let env = |k: &str| std::env::var(k).ok();
     let kind = if env("ISO").is_some() {
         LobeKind::Isotropic
     } else {
         LobeKind::Anisotropic
     };
-    let lobes = env("LOBES").map_or(1, |v| v.parse().unwrap());
+    let lobes = env("LOBES").map_or(1, |v| parsed("LOBES", &v));
     let mut b = Layout::builder(&vec![kind; lobes]);
     if env("RAW").is_some() {
         b = b.exponent_coord(brdf_model::ExponentCoord::Raw);
     }
-    let la = b.build().unwrap();
-    let jitter: f64 = env("JITTER").map_or(0.05, |v| v.parse().unwrap());
-    let sigma: f64 = env("SIGMA").map_or(0.0, |v| v.parse().unwrap());
+    let la = b.build().unwrap_or_else(|e| {
+        eprintln!("LOBES = {lobes}: {e}");
+        std::process::exit(2)
+    });
+    let jitter: f64 = env("JITTER").map_or(0.05, |v| parsed("JITTER", &v));
+    let sigma: f64 = env("SIGMA").map_or(0.0, |v| parsed("SIGMA", &v));
     let uniform = env("UNIFORM").is_some();
-    let m: usize = env("M").map_or(25, |v| v.parse().unwrap());
+    let m: usize = env("M").map_or(25, |v| parsed("M", &v));
     println!(
         "names {:?} lo {:?} hi {:?}",
         la.free_names(),
@@ -101,21 +104,12 @@ fn main() {
             let samples = la.prepare(&sub);
             let mut res = Vec::new();
             for (name, o) in &presets {
-                let mut ev = Evaluator::new(&la);
                 let mut x = start.clone();
-                let rep = Solver::new().solve(
-                    &mut Fit {
-                        ev: &mut ev,
-                        data: &samples,
-                    },
-                    &mut x,
-                    la.lower(),
-                    la.upper(),
-                    o,
-                );
+                let rep = solve(&la, &samples, &mut x, o);
                 let (mm, pp) = (samples.len(), la.dim());
                 let mut jac = vec![0.0; mm * pp];
-                let mut fit = Fit {
+                let mut ev = Evaluator::new(&la);
+                let mut fit = BrdfFit {
                     ev: &mut ev,
                     data: &samples,
                 };
@@ -143,18 +137,8 @@ fn main() {
                     r.0, r.1, r.2
                 );
                 for (name, o) in &presets {
-                    let mut ev = Evaluator::new(&la);
                     let mut x = r.4.clone();
-                    if let Ok(rep) = Solver::new().solve(
-                        &mut Fit {
-                            ev: &mut ev,
-                            data: &samples,
-                        },
-                        &mut x,
-                        la.lower(),
-                        la.upper(),
-                        o,
-                    ) {
+                    if let Ok(rep) = solve(&la, &samples, &mut x, o) {
                         line += &format!(" {name} {} {:.6e}", rep.outcome.code(), rep.f);
                     }
                 }
@@ -163,7 +147,7 @@ fn main() {
                 let mut jac = vec![0.0; mm * pp];
                 let mut rr = vec![0.0; mm];
                 let mut ev = Evaluator::new(&la);
-                let mut fit = Fit {
+                let mut fit = BrdfFit {
                     ev: &mut ev,
                     data: &samples,
                 };

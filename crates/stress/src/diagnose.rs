@@ -123,8 +123,10 @@ pub struct Diagnosis {
 
 /// The BRDF fit as a bounded-lm problem (as sls drives it: residuals and Jacobian from the
 /// evaluator on one data set).
-pub(crate) struct BrdfFit<'a> {
+pub struct BrdfFit<'a> {
+    /// The evaluator of the layout being fitted.
     pub ev: &'a mut Evaluator,
+    /// The prepared samples fitted.
     pub data: &'a Samples,
 }
 
