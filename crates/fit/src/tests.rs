@@ -2,17 +2,22 @@
 
 use super::*;
 
+/// The Lafortune model with `lobes` anisotropic lobes in log1p coordinates, nothing fixed.
+fn anisotropic_lafortune(lobes: usize) -> ModelSpec {
+    model_spec(
+        Surface::Cli,
+        FamilyRef::lafortune(),
+        lobes,
+        LobeKind::Anisotropic,
+        ExponentCoord::Log1p,
+        [],
+    )
+    .unwrap()
+}
+
 fn request(seed: u64) -> FitRequest {
     FitRequest {
-        model: model_spec(
-            Surface::Cli,
-            FamilyRef::lafortune(),
-            1,
-            LobeKind::Anisotropic,
-            ExponentCoord::Log1p,
-            [],
-        )
-        .unwrap(),
+        model: anisotropic_lafortune(1),
         algorithm: algorithm_config(
             Surface::Cli,
             "aed",
@@ -123,15 +128,7 @@ fn the_polished_fit_is_at_rest() {
     let p = brdf_model::named_params("cross").unwrap();
     let data = Arc::new(brdf_model::synthetic(&p, 2000, 0.05, 3));
     let mut r = request(1);
-    r.model = model_spec(
-        Surface::Cli,
-        FamilyRef::lafortune(),
-        2,
-        LobeKind::Anisotropic,
-        ExponentCoord::Log1p,
-        [],
-    )
-    .unwrap();
+    r.model = anisotropic_lafortune(2);
     r.target = 0.0;
     r.cpu_seconds = 0.3;
     let fit = fit(data.clone(), &r, None).unwrap();
@@ -380,15 +377,7 @@ fn no_candidate_says_why() {
     let e = fit(Arc::new(huge), &r, None).unwrap_err().to_string();
     assert!(e.contains("every candidate's RMSE overflowed"), "{e}");
     r.cpu_seconds = 1e-9;
-    r.model = model_spec(
-        Surface::Cli,
-        FamilyRef::lafortune(),
-        64,
-        LobeKind::Anisotropic,
-        ExponentCoord::Log1p,
-        [],
-    )
-    .unwrap();
+    r.model = anisotropic_lafortune(64);
     let e = fit(data(), &r, None).unwrap_err().to_string();
     assert!(e.contains("ended before the first evaluation"), "{e}");
     assert!(
@@ -455,15 +444,7 @@ fn the_default_algorithm_keeps_both_lobes_of_the_cross_data() {
     let mut dead = Vec::new();
     for seed in 1..=20 {
         let mut r = request(seed);
-        r.model = model_spec(
-            Surface::Cli,
-            FamilyRef::lafortune(),
-            2,
-            LobeKind::Anisotropic,
-            ExponentCoord::Log1p,
-            [],
-        )
-        .unwrap();
+        r.model = anisotropic_lafortune(2);
         r.algorithm = algorithm_config(Surface::Cli, DEFAULT_ALGORITHM, []).unwrap();
         r.cpu_seconds = 2.0;
         r.target = 0.0998;
