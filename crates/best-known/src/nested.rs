@@ -277,9 +277,14 @@ pub(super) fn aimed_starts(
     exponents.push(hi);
     let isotropic = layout.kinds().get(weakest) == Some(&LobeKind::Isotropic);
     let mut out = Vec::new();
-    for (rank, &i) in order.iter().take(AIMED_SAMPLES).enumerate() {
+    // The brightest samples with their values less the rest of the model there.
+    let top: Vec<(usize, f64)> = order
+        .iter()
+        .take(AIMED_SAMPLES)
+        .map(|&i| (i, data.value(i) - without.value(data.u(i), data.v(i))))
+        .collect();
+    for (rank, &(i, rest)) in top.iter().enumerate() {
         let (u, v) = (data.u(i), data.v(i));
-        let rest = data.value(i) - without.value(u, v);
         let peak = if rest > 0.0 { rest } else { data.value(i) };
         if peak.is_nan() || peak <= 0.0 {
             continue;
@@ -317,9 +322,7 @@ pub(super) fn aimed_starts(
             out.push((how, p));
         }
     }
-    out.extend(pair_aimed_starts(
-        data, best, &without, weakest, &order, &exponents,
-    ));
+    out.extend(pair_aimed_starts(data, best, weakest, &top, &exponents));
     out
 }
 
@@ -333,17 +336,15 @@ pub(super) fn aimed_starts(
 fn pair_aimed_starts(
     data: &DataSet,
     best: &Params,
-    without: &Params,
     weakest: usize,
-    order: &[usize],
+    top: &[(usize, f64)],
     exponents: &[f64],
 ) -> Vec<(String, Params)> {
-    let top: Vec<usize> = order.iter().copied().take(AIMED_SAMPLES).collect();
     let mut out = Vec::new();
-    for (r1, &i1) in top.iter().enumerate() {
-        for (r2, &i2) in top.iter().enumerate().skip(r1 + 1) {
+    for (r1, &s1) in top.iter().enumerate() {
+        for (r2, &s2) in top.iter().enumerate().skip(r1 + 1) {
             for &n in exponents {
-                let Some((cxy, cz)) = lobe_through(data, without, [i1, i2], n) else {
+                let Some((cxy, cz)) = lobe_through(data, [s1, s2], n) else {
                     continue;
                 };
                 let mut p = best.clone();
@@ -365,15 +366,15 @@ fn pair_aimed_starts(
     out
 }
 
-/// `(Cxy, Cz)` of the isotropic lobe of exponent `n` that gives samples `rows` their values
-/// less `without`'s there; `None` when a remainder is not positive or the system is singular.
-fn lobe_through(data: &DataSet, without: &Params, rows: [usize; 2], n: f64) -> Option<(f64, f64)> {
+/// `(Cxy, Cz)` of the isotropic lobe of exponent `n` that takes the value `rest` at each of
+/// the two samples `(row, rest)`; `None` when a `rest` is not positive or the system is
+/// singular.
+fn lobe_through(data: &DataSet, samples: [(usize, f64); 2], n: f64) -> Option<(f64, f64)> {
     let mut a = [0.0; 2];
     let mut b = [0.0; 2];
     let mut t = [0.0; 2];
-    for (k, &i) in rows.iter().enumerate() {
+    for (k, &(i, rest)) in samples.iter().enumerate() {
         let (u, v) = (data.u(i), data.v(i));
-        let rest = data.value(i) - without.value(u, v);
         if rest.is_nan() || rest <= 0.0 {
             return None;
         }
