@@ -347,46 +347,61 @@ mod tests {
         }
     }
 
+    /// Solves the singular model `0.5 ||u + T z||^2` with variable 1 dead, whose minimum-norm
+    /// minimiser (solving 2 z0 + z2 = -0.2, 3 z2 = 0.3, z1 = 0) is `(-0.15, 0, 0.1)`, of norm
+    /// 0.18, inside the unit region. Returns the step and the shifted factorizations it took.
+    fn solve_singular_model(stop_at_min_norm: bool, lambda_guess: f64) -> (Vec<f64>, usize) {
+        let n = 3;
+        let t = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0];
+        let u = [0.2, 0.0, -0.3];
+        let (mut t_lambda, mut u_lambda) = (vec![0.0; n * n], vec![0.0; n]);
+        let mut row = vec![0.0; shifted_scratch_len(n)];
+        let mut sub = Counted {
+            sub: LeastSquaresModel {
+                n,
+                t: &t,
+                u: &u,
+                t_lambda: &mut t_lambda,
+                u_lambda: &mut u_lambda,
+                row: &mut row,
+                scale_tiny: true,
+            },
+            shifted: 0,
+        };
+        let (mut z, mut best, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut never = || false;
+        let mut poll = StopPoll::new(&mut never);
+        let scratch = (&mut best[..], &mut q[..]);
+        let tr = trust_region(
+            &mut sub,
+            1.0,
+            lambda_guess,
+            stop_at_min_norm,
+            &mut poll,
+            &mut z,
+            scratch,
+        );
+        assert!(
+            !tr.is_newton && tr.newton_norm < 0.0,
+            "singular: no Newton step"
+        );
+        (z, sub.shifted)
+    }
+
+    const MIN_NORM_STEP: [f64; 3] = [-0.15, 0.0, 0.1];
+
     /// A singular model whose minimum-norm step lies inside the region: with
     /// `stop_at_min_norm` the iteration returns that step after a few factorizations; without
     /// it, it runs to its 60-step limit.
     #[test]
     pub(super) fn singular_model_stops_at_its_minimum_norm_step() {
-        // 0.5 ||u + T z||^2 with variable 1 dead: the minimum-norm minimiser solves
-        // 2 z0 + z2 = -0.2, 3 z2 = 0.3, z1 = 0, so z = (-0.15, 0, 0.1), of norm 0.18.
-        let n = 3;
-        let t = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0];
-        let u = [0.2, 0.0, -0.3];
-        let want = [-0.15, 0.0, 0.1];
         let mut counts = vec![];
         for stop in [true, false] {
-            let (mut t_lambda, mut u_lambda) = (vec![0.0; n * n], vec![0.0; n]);
-            let mut row = vec![0.0; shifted_scratch_len(n)];
-            let mut sub = Counted {
-                sub: LeastSquaresModel {
-                    n,
-                    t: &t,
-                    u: &u,
-                    t_lambda: &mut t_lambda,
-                    u_lambda: &mut u_lambda,
-                    row: &mut row,
-                    scale_tiny: true,
-                },
-                shifted: 0,
-            };
-            let (mut z, mut best, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            let mut never = || false;
-            let mut poll = StopPoll::new(&mut never);
-            let scratch = (&mut best[..], &mut q[..]);
-            let tr = trust_region(&mut sub, 1.0, 0.0, stop, &mut poll, &mut z, scratch);
-            assert!(
-                !tr.is_newton && tr.newton_norm < 0.0,
-                "singular: no Newton step"
-            );
-            for (a, b) in z.iter().zip(&want) {
+            let (z, shifted) = solve_singular_model(stop, 0.0);
+            for (a, b) in z.iter().zip(&MIN_NORM_STEP) {
                 assert!((a - b).abs() < 1e-9, "stop {stop}: {z:?}");
             }
-            counts.push(sub.shifted);
+            counts.push(shifted);
         }
         assert!(
             counts[0] <= 10,
@@ -394,6 +409,21 @@ mod tests {
             counts[0]
         );
         assert_eq!(counts[1], 60, "without it, the 60-step limit");
+    }
+
+    /// Started from a subnormal `lambda` (as a search's solve after a long run of tiny ones),
+    /// the next trial's `lambda` rounds to 0, whose singular system fails, and so would every
+    /// trial after it: the iteration ends there with the step of the first trial instead of
+    /// factorizing the same failing system to its limit.
+    #[test]
+    pub(super) fn a_failure_every_later_trial_would_repeat_ends_the_iteration() {
+        let (z, shifted) = solve_singular_model(false, 1e-320);
+        // lambda 1e-320 and 1e-323 succeed, 1e-3 * 1e-323 rounds to 0 and fails; without
+        // the ending, 57 more trials would fail at 0.
+        assert_eq!(shifted, 3, "two successes, one failure at lambda 0");
+        for (a, b) in z.iter().zip(&MIN_NORM_STEP) {
+            assert!((a - b).abs() < 1e-9, "{z:?}");
+        }
     }
 
     /// The dual (wide) model gives the primal Givens model's step and `||L^-1 z||`.

@@ -114,6 +114,33 @@ fn shifted_solve_flops(n: usize) -> f64 {
     n * n * n / 3.0
 }
 
+/// The `lambda` of the next trial: `lam` when it lies inside the bracket `(lo, hi)`, else the
+/// geometric mean of the bracket (`hi / 1000` while there is no lower bound), kept a
+/// thousandth of the bracket above `lo`.
+fn trial_lambda(lam: f64, lo: f64, hi: f64) -> f64 {
+    if lam > lo && lam < hi {
+        return lam;
+    }
+    let lam = if lo > 0.0 {
+        (lo * hi).sqrt()
+    } else {
+        1e-3 * hi
+    };
+    lam.max(lo + 1e-3 * (hi - lo))
+}
+
+/// Whether a trial that just failed at `lo` (its shifted system not positive definite, or its
+/// step not finite; the bracket is now `(lo, hi)`) would be repeated by every trial left: the
+/// next trial's `lambda` is `lo` itself, the iteration's state is what it was before the failed
+/// trial, and a shifted solve is a function of the model and `lambda` alone. Ending the
+/// iteration there gives, bit for bit, what running out its trials gives (in the searches a
+/// dead lobe's model whose `lambda` had fallen to 0 or a subnormal otherwise spent up to 59 more
+/// factorisations, all failing the same way). Only the [`StopPoll`] charges of those trials are
+/// skipped, so a CPU cutoff is noticed at the caller's next question instead of during them.
+fn failure_repeats(lo: f64, hi: f64) -> bool {
+    trial_lambda(0.0, lo, hi).to_bits() == lo.to_bits()
+}
+
 /// Minimises the free-set model subject to `||z|| <= radius` (More-Sorensen/Hebden iteration on
 /// `lambda`); `z` receives the step; `best` (the best feasible step seen) and `q` are scratch.
 /// `stop_at_min_norm` is [`Safeguards::stop_at_minimum_norm_step`](crate::Safeguards::stop_at_minimum_norm_step).
@@ -179,18 +206,11 @@ pub(super) fn trust_region(
         if poll.charge(shifted_solve_flops(n)) {
             break;
         }
-        if !(lam > lo && lam < hi) {
-            lam = if lo > 0.0 {
-                (lo * hi).sqrt()
-            } else {
-                1e-3 * hi
-            };
-            lam = lam.max(lo + 1e-3 * (hi - lo));
-        }
+        lam = trial_lambda(lam, lo, hi);
         if !sub.shifted(lam, z) {
             lo = lam;
             lam = 0.0;
-            if hi - lo <= 1e-14 * hi {
+            if hi - lo <= 1e-14 * hi || failure_repeats(lo, hi) {
                 break;
             }
             continue;
@@ -199,6 +219,9 @@ pub(super) fn trust_region(
         if !nz.is_finite() {
             lo = lam;
             lam = 0.0;
+            if failure_repeats(lo, hi) {
+                break;
+            }
             continue;
         }
         if nz <= radius * (1.0 + RADIUS_SLACK) {
@@ -253,5 +276,31 @@ pub(super) fn trust_region(
             newton_norm,
             is_newton: false,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed trial repeats exactly when the bracket leaves the next trial at the failed
+    /// `lambda`: at 0 under a subnormal upper end, or at a collapsed bracket; not while the
+    /// bracket still has room.
+    #[test]
+    fn a_failure_repeats_only_when_the_next_trial_is_the_same_lambda() {
+        assert!(failure_repeats(0.0, 3.5e-323));
+        assert!(failure_repeats(1.1130856366200477, 1.113085636620048));
+        assert!(!failure_repeats(0.0, 1.0));
+        assert!(!failure_repeats(1e-3, 1.0));
+        assert!(!failure_repeats(1e-300, 6.6e-180));
+    }
+
+    /// The next trial keeps a `lambda` inside the bracket and otherwise takes the geometric
+    /// mean, or a thousandth of `hi` without a lower bound.
+    #[test]
+    fn trial_lambda_stays_in_the_bracket() {
+        assert_eq!(trial_lambda(0.5, 0.1, 1.0), 0.5);
+        assert_eq!(trial_lambda(0.0, 0.0, 2.0), 2e-3);
+        assert_eq!(trial_lambda(3.0, 0.01, 1.0), 0.1);
     }
 }
