@@ -413,8 +413,8 @@ mod tests {
 
     /// Started from a subnormal `lambda` (as a search's solve after a long run of tiny ones),
     /// the next trial's `lambda` rounds to 0, whose singular system fails, and so would every
-    /// trial after it: the iteration ends there with the step of the first trial instead of
-    /// factorizing the same failing system to its limit.
+    /// trial after it: the iteration ends there with its last step inside the region instead
+    /// of factorizing the same failing system to its limit.
     #[test]
     pub(super) fn a_failure_every_later_trial_would_repeat_ends_the_iteration() {
         let (z, shifted) = solve_singular_model(false, 1e-320);
