@@ -29,8 +29,13 @@ def load(path):
                 record = json.loads(line)
             except json.JSONDecodeError as e:
                 raise ValueError(f"{path}:{number}: not a JSON record ({e})") from e
+            if not isinstance(record, dict):
+                raise ValueError(f"{path}:{number}: not a JSON object")
             if record.get("type") == "trial":
-                trials[record["key"]] = record["result"]
+                try:
+                    trials[record["key"]] = record["result"]
+                except KeyError as e:
+                    raise ValueError(f"{path}:{number}: a trial record without {e}") from e
     return trials
 
 
@@ -59,7 +64,7 @@ def main(argv):
         return 2
     try:
         a, b = load(argv[1]), load(argv[2])
-    except (OSError, ValueError, KeyError, EOFError) as e:
+    except (OSError, ValueError, EOFError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     counts = {"matched": 0, "reached both": 0, "reached one": 0, "reached neither": 0}
